@@ -1,0 +1,110 @@
+//! A fixed-size bitset: visited sets, known sets and failure sets are unions
+//! of these, so map exchange is word-wise OR and never allocates.
+
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct Bitset {
+    words: Vec<u64>,
+}
+
+impl Bitset {
+    pub fn new(bits: usize) -> Self {
+        Bitset { words: vec![0; bits.div_ceil(64)] }
+    }
+
+    pub fn from_words(words: Vec<u64>) -> Self {
+        Bitset { words }
+    }
+
+    pub fn words(&self) -> &[u64] {
+        &self.words
+    }
+
+    /// Number of bits it can hold (a multiple of 64).
+    pub fn capacity(&self) -> usize {
+        self.words.len() * 64
+    }
+
+    #[inline]
+    pub fn get(&self, k: usize) -> bool {
+        self.words.get(k / 64).is_some_and(|w| w >> (k % 64) & 1 == 1)
+    }
+
+    #[inline]
+    pub fn set(&mut self, k: usize) {
+        self.words[k / 64] |= 1 << (k % 64);
+    }
+
+    #[inline]
+    pub fn clear(&mut self, k: usize) {
+        self.words[k / 64] &= !(1 << (k % 64));
+    }
+
+    pub fn clear_all(&mut self) {
+        self.words.iter_mut().for_each(|w| *w = 0);
+    }
+
+    /// `self |= other`; returns whether anything changed. Sizes must match.
+    pub fn union_with(&mut self, other: &Bitset) -> bool {
+        let mut changed = 0;
+        for (a, b) in self.words.iter_mut().zip(&other.words) {
+            changed |= *b & !*a;
+            *a |= *b;
+        }
+        changed != 0
+    }
+
+    /// Whether some bit is set here and not in `other`.
+    pub fn any_not_in(&self, other: &Bitset) -> bool {
+        self.words.iter().zip(&other.words).any(|(a, b)| a & !b != 0)
+    }
+
+    pub fn count(&self) -> usize {
+        self.words.iter().map(|w| w.count_ones() as usize).sum()
+    }
+
+    pub fn is_subset_of(&self, other: &Bitset) -> bool {
+        !self.any_not_in(other)
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+        self.words.iter().enumerate().flat_map(|(k, &w)| {
+            let mut w = w;
+            std::iter::from_fn(move || {
+                if w == 0 {
+                    return None;
+                }
+                let b = w.trailing_zeros() as usize;
+                w &= w - 1;
+                Some(k * 64 + b)
+            })
+        })
+    }
+
+    pub fn copy_from(&mut self, other: &Bitset) {
+        self.words.copy_from_slice(&other.words);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn set_union_iter() {
+        let mut a = Bitset::new(130);
+        let mut b = Bitset::new(130);
+        a.set(3);
+        a.set(129);
+        b.set(64);
+        assert!(a.union_with(&b));
+        assert!(!a.union_with(&b));
+        assert_eq!(a.iter().collect::<Vec<_>>(), vec![3, 64, 129]);
+        assert_eq!(a.count(), 3);
+        assert!(b.is_subset_of(&a));
+        assert!(!a.is_subset_of(&b));
+        a.clear(64);
+        assert!(!a.get(64));
+    }
+}

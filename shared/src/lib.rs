@@ -1,0 +1,13 @@
+//! gridswarm: decentralized multi-robot search on a grid (Yang, CCC 2017).
+//!
+//! Layers, lowest first: [`geometry`] and [`lattice`] know nothing of robots;
+//! [`grid`] is the frame robots share; [`world`] is the ground truth only
+//! engines hold; [`robot`] is the decision core, with no I/O; [`engine`]
+//! drives robots in-process. See ARCHITECTURE.md.
+
+pub mod bitset;
+pub mod geometry;
+pub mod grid;
+pub mod lattice;
+pub mod params;
+pub mod world;

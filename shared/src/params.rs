@@ -1,0 +1,86 @@
+//! Ranges and times of READING.md's Table 1, and the situation being searched.
+
+use serde::{Deserialize, Serialize};
+
+/// Physical parameters of the robots and the grid. The defaults are the
+/// project's reading of the lost Table 1 (READING.md): `a`, `r_rob`,
+/// `r_safe` and the move times are given, every range is the equality case
+/// of its assumption.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Params {
+    /// Grid side: one step (m).
+    pub a: f64,
+    /// Robot swing radius (m).
+    pub r_rob: f64,
+    /// Safety radius, all errors included (m).
+    pub r_safe: f64,
+    /// Obstacle sensing range, sonar (m).
+    pub r_so: f64,
+    /// Target sensing range, laser (m).
+    pub r_st: f64,
+    /// Communication range (m).
+    pub r_c: f64,
+    /// One rotation (s).
+    pub t_rot: f64,
+    /// One translation of length `a` (s).
+    pub t_trans: f64,
+    /// One robot's turn in step 5, compute and send (s). Not given by the
+    /// paper; 0.1 s is the project's choice for a Wi-Fi round trip plus a
+    /// small computation.
+    pub t_choice: f64,
+}
+
+impl Params {
+    /// Defaults for the given `a`, `r_rob`, `r_safe`: every range at the
+    /// equality case of Assumptions 2.4, 2.5 and 3.1.1.
+    pub fn derived(a: f64, r_rob: f64, r_safe: f64) -> Self {
+        Params {
+            a,
+            r_rob,
+            r_safe,
+            r_so: a + r_safe,
+            r_st: a + r_safe,
+            r_c: 2.0 * a + r_safe - r_rob,
+            t_rot: 1.25,
+            t_trans: 4.5,
+            t_choice: 0.1,
+        }
+    }
+
+    /// One full move: a rotation and a translation (the RU penalty per collision).
+    pub fn move_time(&self) -> f64 {
+        self.t_rot + self.t_trans
+    }
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params::derived(1.0, 0.25, 0.30)
+    }
+}
+
+/// Whether the number of targets is known (Sec. 2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Situation {
+    /// `|T|` known: stop when every target is found (rule 3).
+    One,
+    /// `|T|` unknown: stop when the map has no unvisited vertex (rule 4).
+    Two,
+}
+
+impl Situation {
+    pub fn number(self) -> u8 {
+        match self {
+            Situation::One => 1,
+            Situation::Two => 2,
+        }
+    }
+
+    pub fn from_number(n: u8) -> Option<Self> {
+        match n {
+            1 => Some(Situation::One),
+            2 => Some(Situation::Two),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,246 @@
+//! The ground truth: area, obstacles and targets laid over the grid frame.
+//! Decides which vertices are accessible and which edges traversable by the
+//! `r_safe` clearance (READING.md "The world"), and measures the detected
+//! fraction of `Ad` on a raster. Only engines and the world-server hold a
+//! `World`; a robot learns of it through sensing alone.
+
+use std::collections::VecDeque;
+
+use crate::geometry::{Point, Polygon, Shape};
+use crate::grid::{Grid, VertexId, NONE};
+use crate::lattice::{Lattice, LatticeKind};
+use crate::params::Params;
+
+#[derive(Clone, Debug)]
+pub struct World {
+    pub grid: Grid,
+    pub area: Polygon,
+    pub obstacles: Vec<Shape>,
+    pub targets: Vec<Point>,
+    pub params: Params,
+    accessible: Vec<bool>,
+    /// `open[v]` bit `d`: the edge in slot `d` of `v` is traversable.
+    open: Vec<u8>,
+    /// Targets within `r_st` of each vertex.
+    targets_near: Vec<Vec<u16>>,
+}
+
+impl World {
+    pub fn new(area: Polygon, obstacles: Vec<Shape>, targets: Vec<Point>, params: Params, kind: LatticeKind) -> Self {
+        let (lo, hi) = area.bounding_box();
+        let grid = Grid::new(Lattice::new(kind, params.a), lo, hi);
+        let clear = |p: Point| {
+            area.contains(p)
+                && area.boundary_distance(p) >= params.r_safe
+                && obstacles.iter().all(|o| o.distance(p) >= params.r_safe)
+        };
+        let accessible: Vec<bool> = (0..grid.len() as VertexId).map(|v| clear(grid.position(v))).collect();
+        let open = (0..grid.len() as VertexId)
+            .map(|v| {
+                let mut mask = 0u8;
+                if !accessible[v as usize] {
+                    return mask;
+                }
+                let p = grid.position(v);
+                for (d, &n) in grid.neighbors(v)[..grid.degree()].iter().enumerate() {
+                    if n == NONE || !accessible[n as usize] {
+                        continue;
+                    }
+                    let q = grid.position(n);
+                    let ok = area.boundary_segment_distance(p, q) >= params.r_safe
+                        && obstacles.iter().all(|o| o.segment_distance(p, q) >= params.r_safe);
+                    if ok {
+                        mask |= 1 << d;
+                    }
+                }
+                mask
+            })
+            .collect();
+        let targets_near = (0..grid.len() as VertexId)
+            .map(|v| {
+                let p = grid.position(v);
+                (0..targets.len()).filter(|&t| (targets[t] - p).norm() <= params.r_st).map(|t| t as u16).collect()
+            })
+            .collect();
+        World { grid, area, obstacles, targets, params, accessible, open, targets_near }
+    }
+
+    pub fn is_accessible(&self, v: VertexId) -> bool {
+        self.accessible[v as usize]
+    }
+
+    /// Traversable-edge mask of `v` by adjacency slot.
+    pub fn open_mask(&self, v: VertexId) -> u8 {
+        self.open[v as usize]
+    }
+
+    /// Whether the move `from → to` is along a traversable edge.
+    pub fn can_move(&self, from: VertexId, to: VertexId) -> bool {
+        self.grid.slot_of(from, to).is_some_and(|d| self.open[from as usize] >> d & 1 == 1)
+    }
+
+    /// Targets within `r_st` of vertex `v`.
+    pub fn targets_near(&self, v: VertexId) -> &[u16] {
+        &self.targets_near[v as usize]
+    }
+
+    /// Accessible vertices, in id order.
+    pub fn accessible_vertices(&self) -> impl Iterator<Item = VertexId> + '_ {
+        (0..self.grid.len() as VertexId).filter(|&v| self.accessible[v as usize])
+    }
+
+    /// `Va`: the accessible vertices reachable from `starts` over traversable edges.
+    pub fn reachable_from(&self, starts: &[VertexId]) -> Vec<bool> {
+        let mut seen = vec![false; self.grid.len()];
+        let mut queue: VecDeque<VertexId> = VecDeque::new();
+        for &s in starts {
+            if self.accessible[s as usize] && !seen[s as usize] {
+                seen[s as usize] = true;
+                queue.push_back(s);
+            }
+        }
+        while let Some(v) = queue.pop_front() {
+            for (d, &n) in self.grid.neighbors(v)[..self.grid.degree()].iter().enumerate() {
+                if self.open[v as usize] >> d & 1 == 1 && !seen[n as usize] {
+                    seen[n as usize] = true;
+                    queue.push_back(n);
+                }
+            }
+        }
+        seen
+    }
+
+    /// Whether `p` lies in `Ad` (in the area, outside every obstacle).
+    pub fn in_ad(&self, p: Point) -> bool {
+        self.area.contains(p) && !self.obstacles.iter().any(|o| o.contains(p))
+    }
+
+    /// A raster of `Ad` with cells of side `h`, for the detected fraction.
+    pub fn raster(&self, h: f64) -> Raster {
+        let (lo, hi) = self.area.bounding_box();
+        let nx = ((hi.x - lo.x) / h).ceil().max(1.0) as usize;
+        let ny = ((hi.y - lo.y) / h).ceil().max(1.0) as usize;
+        let mut inside = vec![false; nx * ny];
+        let mut count = 0;
+        for y in 0..ny {
+            for x in 0..nx {
+                let p = Point::new(lo.x + (x as f64 + 0.5) * h, lo.y + (y as f64 + 0.5) * h);
+                if self.in_ad(p) {
+                    inside[y * nx + x] = true;
+                    count += 1;
+                }
+            }
+        }
+        Raster { origin: lo, h, nx, ny, inside, count }
+    }
+}
+
+/// Sample points (cell centres) of `Ad`; a sample is detected once it lies
+/// within the sensing range of some visited point.
+#[derive(Clone, Debug)]
+pub struct Raster {
+    origin: Point,
+    h: f64,
+    nx: usize,
+    ny: usize,
+    inside: Vec<bool>,
+    count: usize,
+}
+
+impl Raster {
+    /// Number of samples in `Ad`.
+    pub fn samples(&self) -> usize {
+        self.count
+    }
+
+    /// Fraction of the samples of `Ad` within `r` of at least one of `centres`.
+    pub fn detected_fraction(&self, centres: impl IntoIterator<Item = Point>, r: f64) -> f64 {
+        if self.count == 0 {
+            return 1.0;
+        }
+        let mut hit = vec![false; self.inside.len()];
+        let mut detected = 0usize;
+        for c in centres {
+            let x0 = (((c.x - r - self.origin.x) / self.h).floor().max(0.0)) as usize;
+            let y0 = (((c.y - r - self.origin.y) / self.h).floor().max(0.0)) as usize;
+            let x1 = (((c.x + r - self.origin.x) / self.h).ceil().max(0.0) as usize).min(self.nx);
+            let y1 = (((c.y + r - self.origin.y) / self.h).ceil().max(0.0) as usize).min(self.ny);
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    let k = y * self.nx + x;
+                    if !self.inside[k] || hit[k] {
+                        continue;
+                    }
+                    let p = Point::new(self.origin.x + (x as f64 + 0.5) * self.h, self.origin.y + (y as f64 + 0.5) * self.h);
+                    if (p - c).norm() <= r {
+                        hit[k] = true;
+                        detected += 1;
+                    }
+                }
+            }
+        }
+        detected as f64 / self.count as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Circle;
+
+    fn rect(w: f64, h: f64) -> Polygon {
+        Polygon::new(vec![Point::new(0.0, 0.0), Point::new(w, 0.0), Point::new(w, h), Point::new(0.0, h)])
+    }
+
+    #[test]
+    fn clearance_rules_vertices_and_edges() {
+        let params = Params::default();
+        let obstacle = Shape::Circle(Circle { center: Point::new(5.0, 5.0), radius: 1.0 });
+        let w = World::new(rect(10.0, 10.0), vec![obstacle.clone()], vec![], params, LatticeKind::Triangular);
+        for v in 0..w.grid.len() as VertexId {
+            let p = w.grid.position(v);
+            let clear = p.x >= 0.3 && p.x <= 9.7 && p.y >= 0.3 && p.y <= 9.7 && (p - Point::new(5.0, 5.0)).norm() >= 1.3;
+            assert_eq!(w.is_accessible(v), clear, "{p:?}");
+        }
+        // Every open edge keeps the clearance along its whole length.
+        for v in w.accessible_vertices() {
+            for d in 0..6 {
+                if w.open_mask(v) >> d & 1 == 1 {
+                    let n = w.grid.neighbors(v)[d];
+                    assert!(obstacle.segment_distance(w.grid.position(v), w.grid.position(n)) >= 0.3);
+                    // Symmetric.
+                    assert!(w.can_move(n, v));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn wall_splits_va() {
+        let params = Params::default();
+        let wall = Shape::Polygon(rect(0.2, 10.0));
+        let wall = match wall {
+            Shape::Polygon(mut p) => {
+                p.points.iter_mut().for_each(|q| q.x += 4.9);
+                Shape::Polygon(p)
+            }
+            s => s,
+        };
+        let w = World::new(rect(10.0, 6.0), vec![wall], vec![], params, LatticeKind::Square);
+        let left = w.grid.nearest(Point::new(1.0, 1.0)).unwrap();
+        let va = w.reachable_from(&[left]);
+        for v in w.accessible_vertices() {
+            assert_eq!(va[v as usize], w.grid.position(v).x < 5.0);
+        }
+    }
+
+    #[test]
+    fn raster_fraction_of_full_cover_is_one() {
+        let w = World::new(rect(4.0, 4.0), vec![], vec![], Params::default(), LatticeKind::Triangular);
+        let r = w.raster(0.1);
+        assert_eq!(r.samples(), 1600);
+        assert_eq!(r.detected_fraction([Point::new(2.0, 2.0)], 10.0), 1.0);
+        let half = r.detected_fraction([Point::new(0.0, 2.0)], 2.0);
+        assert!(half > 0.35 && half < 0.45, "{half}");
+    }
+}
