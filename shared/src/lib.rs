@@ -11,3 +11,8 @@ pub mod grid;
 pub mod lattice;
 pub mod params;
 pub mod world;
+pub mod engine;
+pub mod outcome;
+pub mod policy;
+pub mod scenario;
+pub mod lfp;
