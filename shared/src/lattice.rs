@@ -92,7 +92,12 @@ impl Lattice {
     }
 
     pub fn position(&self, c: Coord) -> Point {
-        let (i, j) = (c.i as f64, c.j as f64);
+        self.position_of(c.i as f64, c.j as f64)
+    }
+
+    /// The position of real-valued lattice coordinates. Positions are linear
+    /// in `(i, j)`, so a mean of positions is the position of the mean.
+    pub fn position_of(&self, i: f64, j: f64) -> Point {
         match self.kind {
             LatticeKind::Square => Point::new(self.a * i, self.a * j),
             LatticeKind::Triangular | LatticeKind::Hexagonal => {

@@ -1,0 +1,86 @@
+//! Engine properties on hand-made worlds: no collisions for the
+//! collision-free policies, termination, reproducibility.
+
+use gridswarm::engine;
+use gridswarm::geometry::{Circle, Point, Polygon, Shape};
+use gridswarm::grid::VertexId;
+use gridswarm::lattice::LatticeKind;
+use gridswarm::outcome::RunConfig;
+use gridswarm::params::{Params, Situation};
+use gridswarm::policy::Policy;
+use gridswarm::world::World;
+
+fn small_world() -> World {
+    let area = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(12.0, 0.0), Point::new(12.0, 9.0), Point::new(0.0, 9.0)]);
+    let obstacles = vec![
+        Shape::Circle(Circle { center: Point::new(6.0, 4.5), radius: 1.2 }),
+        Shape::Polygon(Polygon::new(vec![Point::new(2.0, 6.0), Point::new(4.0, 6.0), Point::new(3.0, 7.5)])),
+    ];
+    let targets = vec![Point::new(2.0, 2.0), Point::new(10.0, 2.0), Point::new(10.0, 7.5), Point::new(1.5, 8.0)];
+    World::new(area, obstacles, targets, Params::default(), LatticeKind::Triangular)
+}
+
+fn starts(world: &World, n: usize) -> Vec<VertexId> {
+    // A row of neighbouring vertices along the bottom border.
+    let mut v: Vec<VertexId> = world.accessible_vertices().filter(|&v| world.grid.position(v).y < 1.0).collect();
+    v.truncate(n);
+    assert_eq!(v.len(), n);
+    v
+}
+
+#[test]
+fn collision_free_policies_never_collide_and_finish() {
+    let world = small_world();
+    for policy in [Policy::Repulsive, Policy::Sequential, Policy::Escape] {
+        for situation in [Situation::One, Situation::Two] {
+            for robots in [1, 3, 7, 10] {
+                for seed in 0..30 {
+                    let mut cfg = RunConfig::new(policy, seed, situation);
+                    cfg.max_rounds = 20_000;
+                    cfg.record_trajectories = false;
+                    cfg.measure_coverage = false;
+                    let r = engine::run(&world, &starts(&world, robots), &cfg);
+                    assert_eq!(r.collisions, 0, "{policy} {situation:?} n={robots} seed={seed}");
+                    assert!(r.complete, "{policy} {situation:?} n={robots} seed={seed}: {r:?}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn ru_finishes_and_counts_collisions() {
+    let world = small_world();
+    let mut total = 0;
+    for seed in 0..50 {
+        let cfg = RunConfig::new(Policy::Ru, seed, Situation::One);
+        let r = engine::run(&world, &starts(&world, 10), &cfg);
+        assert!(r.complete);
+        total += r.collisions;
+    }
+    assert!(total > 0, "ten particles on a small map should collide sometimes");
+}
+
+#[test]
+fn same_seed_same_trajectories() {
+    let world = small_world();
+    let cfg = RunConfig::new(Policy::Repulsive, 7, Situation::One);
+    let a = engine::run(&world, &starts(&world, 5), &cfg);
+    let b = engine::run(&world, &starts(&world, 5), &cfg);
+    assert_eq!(a.trajectories, b.trajectories);
+    let c = engine::run(&world, &starts(&world, 5), &RunConfig::new(Policy::Repulsive, 8, Situation::One));
+    assert_ne!(a.trajectories, c.trajectories);
+}
+
+#[test]
+fn print_some_runs() {
+    let world = small_world();
+    for policy in [Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Escape] {
+        for n in [1, 5, 10] {
+            let mut cfg = RunConfig::new(policy, 3, Situation::One);
+            cfg.record_trajectories = false;
+            let r = engine::run(&world, &starts(&world, n), &cfg);
+            println!("{policy} n={n} rounds={} t={:.1} found={}/{} coll={} cov={:?} complete={}", r.rounds, r.search_time_s, r.targets_found, r.targets_total, r.collisions, r.coverage, r.complete);
+        }
+    }
+}
