@@ -16,3 +16,7 @@ pub mod outcome;
 pub mod policy;
 pub mod scenario;
 pub mod lfp;
+pub mod map;
+pub mod rng;
+pub mod robot;
+pub mod referee;
