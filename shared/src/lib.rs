@@ -20,3 +20,4 @@ pub mod map;
 pub mod rng;
 pub mod robot;
 pub mod referee;
+pub mod protocol;

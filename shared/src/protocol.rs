@@ -1,0 +1,155 @@
+//! The messages robots exchange (steps 1, 3, 5, 8), as serde types encoded
+//! with postcard. Decoding checks every id and size against the run, so a
+//! malformed or hostile message is an error to count, never a panic or an
+//! out-of-bounds index in the decision core.
+
+use serde::{Deserialize, Serialize};
+
+use crate::grid::VertexId;
+use crate::map::{Map, RobotId};
+
+/// Robot-to-robot messages. Every one carries its round so stale ones can
+/// be told apart and dropped.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Message {
+    /// Step 1 broadcast to all robots: targets the sender just found.
+    Targets { round: u32, from: RobotId, targets: Vec<u16> },
+    /// Step 3 to communication neighbours: the sender's map as it was after
+    /// sensing, and the vertex it stands on.
+    Map { round: u32, from: RobotId, at: VertexId, map: Map },
+    /// Step 5 to communication neighbours: the sender's next vertex.
+    Choice { round: u32, from: RobotId, next: VertexId },
+    /// Step 8 broadcast: the sender's stop rule fired.
+    Stop { round: u32, from: RobotId },
+}
+
+impl Message {
+    pub fn round(&self) -> u32 {
+        match self {
+            Message::Targets { round, .. }
+            | Message::Map { round, .. }
+            | Message::Choice { round, .. }
+            | Message::Stop { round, .. } => *round,
+        }
+    }
+
+    pub fn from(&self) -> RobotId {
+        match self {
+            Message::Targets { from, .. }
+            | Message::Map { from, .. }
+            | Message::Choice { from, .. }
+            | Message::Stop { from, .. } => *from,
+        }
+    }
+}
+
+/// The sizes of the run a message must fit.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    pub vertices: usize,
+    pub targets: usize,
+    pub robots: usize,
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum DecodeError {
+    #[error("undecodable message: {0}")]
+    Format(String),
+    #[error("message out of range: {0}")]
+    Range(String),
+}
+
+pub fn encode(m: &Message) -> Vec<u8> {
+    postcard::to_allocvec(m).expect("a message always serializes")
+}
+
+/// Decodes and validates a message against the run's `limits`.
+pub fn decode(bytes: &[u8], limits: &Limits) -> Result<Message, DecodeError> {
+    let m: Message = postcard::from_bytes(bytes).map_err(|e| DecodeError::Format(e.to_string()))?;
+    let range = |what: &str, v: usize, n: usize| {
+        if v < n {
+            Ok(())
+        } else {
+            Err(DecodeError::Range(format!("{what} {v} not below {n}")))
+        }
+    };
+    range("sender", m.from() as usize, limits.robots)?;
+    match &m {
+        Message::Targets { targets, .. } => {
+            for &t in targets {
+                range("target", t as usize, limits.targets)?;
+            }
+        }
+        Message::Map { at, map, .. } => {
+            range("vertex", *at as usize, limits.vertices)?;
+            map.validate(limits.vertices, limits.targets, limits.robots).map_err(DecodeError::Range)?;
+        }
+        Message::Choice { next, .. } => range("vertex", *next as usize, limits.vertices)?,
+        Message::Stop { .. } => {}
+    }
+    Ok(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const LIMITS: Limits = Limits { vertices: 100, targets: 9, robots: 13 };
+
+    fn a_map() -> Map {
+        let mut m = Map::new(100, 9);
+        m.visited.set(3);
+        m.known.set(4);
+        m.open[3] = 0x81;
+        m.targets.set(8);
+        m.add_failed(2, 50);
+        m
+    }
+
+    #[test]
+    fn round_trip() {
+        for m in [
+            Message::Targets { round: 3, from: 1, targets: vec![0, 8] },
+            Message::Map { round: 4, from: 12, at: 99, map: a_map() },
+            Message::Choice { round: 5, from: 0, next: 7 },
+            Message::Stop { round: 6, from: 2 },
+        ] {
+            assert_eq!(decode(&encode(&m), &LIMITS), Ok(m));
+        }
+    }
+
+    #[test]
+    fn out_of_range_is_refused() {
+        let bad = [
+            Message::Targets { round: 0, from: 13, targets: vec![] },
+            Message::Targets { round: 0, from: 1, targets: vec![9] },
+            Message::Choice { round: 0, from: 1, next: 100 },
+            Message::Map { round: 0, from: 1, at: 0, map: Map::new(101, 9) },
+            Message::Map { round: 0, from: 1, at: 0, map: Map::new(100, 70) },
+        ];
+        for m in bad {
+            assert!(matches!(decode(&encode(&m), &LIMITS), Err(DecodeError::Range(_))), "{m:?}");
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
+            let _ = decode(&bytes, &LIMITS);
+        }
+
+        #[test]
+        fn corrupted_messages_never_panic(flips in prop::collection::vec((0usize..2000, any::<u8>()), 1..8)) {
+            let mut bytes = encode(&Message::Map { round: 4, from: 12, at: 99, map: a_map() });
+            for (k, b) in flips {
+                let n = bytes.len();
+                bytes[k % n] ^= b;
+            }
+            if let Ok(m) = decode(&bytes, &LIMITS) {
+                // Whatever survives decoding is inside the run's limits.
+                prop_assert!((m.from() as usize) < LIMITS.robots);
+            }
+        }
+    }
+}
