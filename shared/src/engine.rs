@@ -11,7 +11,7 @@ use crate::map::{Map, RobotId};
 use crate::outcome::{Pose, RunConfig, RunResult};
 use crate::params::Situation;
 use crate::policy::Policy;
-use crate::referee::{round_time, Referee};
+use crate::referee::{longest_wait_chain, priority_order, round_time, Referee};
 use crate::robot::{Robot, RobotConfig, Sensing, Stop};
 use crate::world::World;
 
@@ -100,26 +100,21 @@ fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
         }
         // Steps 4-5: in descending priority every robot finds its
         // higher-priority neighbours' choices already announced.
-        order.sort_unstable_by_key(|&k| (std::cmp::Reverse(world.grid.priority_key(referee.position(k))), k));
-        let mut longest = 1;
+        priority_order(&world.grid, referee.positions(), &mut order);
         for &k in &order {
             let v = robots[k].choose().expect("every earlier neighbour has chosen");
             next[k] = v;
-            if cfg.policy == Policy::Ru {
-                continue;
-            }
-            chain[k] = 1;
-            for &j in &neighbours[k] {
-                robots[j as usize].receive_choice(k as RobotId, v);
-            }
-            let key = world.grid.priority_key(referee.position(k));
-            for &j in &neighbours[k] {
-                if world.grid.priority_key(referee.position(j as usize)) > key {
-                    chain[k] = chain[k].max(chain[j as usize] + 1);
+            if cfg.policy != Policy::Ru {
+                for &j in &neighbours[k] {
+                    robots[j as usize].receive_choice(k as RobotId, v);
                 }
             }
-            longest = longest.max(chain[k]);
         }
+        // RU robots choose at once; the others wait along chains.
+        let longest = match cfg.policy {
+            Policy::Ru => 1,
+            _ => longest_wait_chain(&world.grid, referee.positions(), &neighbours, &order, &mut chain),
+        };
         // Step 6.
         let report = referee.execute(&next);
         collisions += report.collisions;

@@ -43,6 +43,32 @@ impl Message {
     }
 }
 
+/// World-server to robot: what the robot's sensors and radio deliver.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum FromWorld {
+    /// Start of a round: the robot's readings (steps 1-2) and who is in
+    /// radio range. `at` is where the robot stands (its odometry).
+    Tick { round: u32, at: VertexId, open: u8, occupied: u8, targets: Vec<u16>, neighbours: Vec<RobotId> },
+    /// A message from another robot, carried by the radio.
+    Relay(Message),
+    /// Every step 1 and step 3 message of this round has been delivered.
+    ExchangeDone { round: u32 },
+    /// The radio lost `robot`, standing on `at`, for good (Sec. 4.2).
+    Failed { round: u32, robot: RobotId, at: VertexId },
+    /// The receiver itself was declared failed: it must stop for good.
+    Deposed { round: u32 },
+    /// The search is over.
+    End { round: u32 },
+}
+
+/// Robot to world-server: messages for the radio to carry. A `Choice` is
+/// also the robot's move for the round; a `Stop` ends the search.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ToWorld {
+    Hello { robot: RobotId, pid: u32 },
+    Radio(Message),
+}
+
 /// The sizes of the run a message must fit.
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
@@ -66,26 +92,76 @@ pub fn encode(m: &Message) -> Vec<u8> {
 /// Decodes and validates a message against the run's `limits`.
 pub fn decode(bytes: &[u8], limits: &Limits) -> Result<Message, DecodeError> {
     let m: Message = postcard::from_bytes(bytes).map_err(|e| DecodeError::Format(e.to_string()))?;
-    let range = |what: &str, v: usize, n: usize| {
-        if v < n {
-            Ok(())
-        } else {
-            Err(DecodeError::Range(format!("{what} {v} not below {n}")))
-        }
-    };
-    range("sender", m.from() as usize, limits.robots)?;
-    match &m {
+    check(&m, limits)?;
+    Ok(m)
+}
+
+fn in_range(what: &str, v: usize, n: usize) -> Result<(), DecodeError> {
+    if v < n {
+        Ok(())
+    } else {
+        Err(DecodeError::Range(format!("{what} {v} not below {n}")))
+    }
+}
+
+/// Checks every id and size in `m` against `limits`.
+fn check(m: &Message, limits: &Limits) -> Result<(), DecodeError> {
+    in_range("sender", m.from() as usize, limits.robots)?;
+    match m {
         Message::Targets { targets, .. } => {
             for &t in targets {
-                range("target", t as usize, limits.targets)?;
+                in_range("target", t as usize, limits.targets)?;
             }
         }
         Message::Map { at, map, .. } => {
-            range("vertex", *at as usize, limits.vertices)?;
+            in_range("vertex", *at as usize, limits.vertices)?;
             map.validate(limits.vertices, limits.targets, limits.robots).map_err(DecodeError::Range)?;
         }
-        Message::Choice { next, .. } => range("vertex", *next as usize, limits.vertices)?,
+        Message::Choice { next, .. } => in_range("vertex", *next as usize, limits.vertices)?,
         Message::Stop { .. } => {}
+    }
+    Ok(())
+}
+
+pub fn encode_to_world(m: &ToWorld) -> Vec<u8> {
+    postcard::to_allocvec(m).expect("a message always serializes")
+}
+
+pub fn encode_from_world(m: &FromWorld) -> Vec<u8> {
+    postcard::to_allocvec(m).expect("a message always serializes")
+}
+
+/// Decodes and validates what a robot sent to the world.
+pub fn decode_to_world(bytes: &[u8], limits: &Limits) -> Result<ToWorld, DecodeError> {
+    let m: ToWorld = postcard::from_bytes(bytes).map_err(|e| DecodeError::Format(e.to_string()))?;
+    match &m {
+        ToWorld::Hello { robot, .. } if (*robot as usize) >= limits.robots => {
+            Err(DecodeError::Range(format!("robot {robot} not below {}", limits.robots)))
+        }
+        ToWorld::Radio(inner) => check(inner, limits).map(|_| m),
+        _ => Ok(m),
+    }
+}
+
+/// Decodes and validates what the world sent to a robot.
+pub fn decode_from_world(bytes: &[u8], limits: &Limits) -> Result<FromWorld, DecodeError> {
+    let m: FromWorld = postcard::from_bytes(bytes).map_err(|e| DecodeError::Format(e.to_string()))?;
+    match &m {
+        FromWorld::Tick { at, targets, neighbours, .. } => {
+            in_range("vertex", *at as usize, limits.vertices)?;
+            for &t in targets {
+                in_range("target", t as usize, limits.targets)?;
+            }
+            for &n in neighbours {
+                in_range("robot", n as usize, limits.robots)?;
+            }
+        }
+        FromWorld::Relay(inner) => check(inner, limits)?,
+        FromWorld::Failed { robot, at, .. } => {
+            in_range("robot", *robot as usize, limits.robots)?;
+            in_range("vertex", *at as usize, limits.vertices)?;
+        }
+        _ => {}
     }
     Ok(m)
 }
@@ -133,7 +209,25 @@ mod tests {
         }
     }
 
+    #[test]
+    fn world_messages_round_trip_and_are_checked() {
+        let tick = FromWorld::Tick { round: 1, at: 5, open: 0x3f, occupied: 1, targets: vec![2], neighbours: vec![3, 4] };
+        assert_eq!(decode_from_world(&encode_from_world(&tick), &LIMITS), Ok(tick));
+        let bad = FromWorld::Tick { round: 1, at: 5, open: 0, occupied: 0, targets: vec![], neighbours: vec![13] };
+        assert!(decode_from_world(&encode_from_world(&bad), &LIMITS).is_err());
+        let radio = ToWorld::Radio(Message::Choice { round: 2, from: 3, next: 99 });
+        assert_eq!(decode_to_world(&encode_to_world(&radio), &LIMITS), Ok(radio));
+        let bad = ToWorld::Radio(Message::Choice { round: 2, from: 3, next: 100 });
+        assert!(decode_to_world(&encode_to_world(&bad), &LIMITS).is_err());
+    }
+
     proptest! {
+        #[test]
+        fn arbitrary_world_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
+            let _ = decode_to_world(&bytes, &LIMITS);
+            let _ = decode_from_world(&bytes, &LIMITS);
+        }
+
         #[test]
         fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
             let _ = decode(&bytes, &LIMITS);

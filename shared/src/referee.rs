@@ -5,7 +5,7 @@
 
 use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
-use crate::grid::{VertexId, NONE};
+use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::Coord;
 use crate::map::RobotId;
 use crate::params::Params;
@@ -37,6 +37,30 @@ pub fn round_time(params: &Params, chain: u32, report: &RoundReport) -> f64 {
         t += params.t_trans;
     }
     t + report.collisions as f64 * params.move_time()
+}
+
+/// Sorts `order` into step 4's order: highest priority first (ties, which
+/// only particles sharing a vertex can have, by robot id).
+pub fn priority_order(grid: &Grid, pos: &[VertexId], order: &mut [usize]) {
+    order.sort_unstable_by_key(|&k| (std::cmp::Reverse(grid.priority_key(pos[k])), k));
+}
+
+/// The longest chain of waiting in step 5: robot `k` waits for every
+/// higher-priority neighbour, so its turn is one after the latest of theirs.
+/// `order` must be in [`priority_order`]; `chain` is scratch space.
+pub fn longest_wait_chain(grid: &Grid, pos: &[VertexId], neighbours: &[Vec<RobotId>], order: &[usize], chain: &mut [u32]) -> u32 {
+    let mut longest = 0;
+    for &k in order {
+        let key = grid.priority_key(pos[k]);
+        chain[k] = 1;
+        for &j in &neighbours[k] {
+            if grid.priority_key(pos[j as usize]) > key {
+                chain[k] = chain[k].max(chain[j as usize] + 1);
+            }
+        }
+        longest = longest.max(chain[k]);
+    }
+    longest
 }
 
 /// Ground truth of robot positions on the grid.
