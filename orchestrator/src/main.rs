@@ -1,1 +1,198 @@
-fn main(){}
+//! `gridswarm`: command-line front end. Parses arguments, calls the library,
+//! and turns every error into one `error: ...` line on stderr.
+//!
+//! Exit status: 0 success; 1 an error (bad scenario, unwritable output, ...);
+//! 2 a usage error (unknown algorithm, bad robot range, ...); 3 `check` found
+//! an assumption that does not hold.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use gridswarm::params::Situation;
+use gridswarm::policy::Policy;
+use gridswarm_orchestrator::experiment::{
+    self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
+};
+use gridswarm_orchestrator::grids::{self, GridsOptions};
+use gridswarm_orchestrator::robots::{RobotCounts, MAX_ROBOTS};
+use gridswarm_orchestrator::simulate::{self, SimulateOptions};
+use gridswarm_orchestrator::{check, Error};
+
+const DEFAULT_MAX_ROUNDS: u32 = 100_000;
+
+#[derive(Parser, Debug)]
+#[command(name = "gridswarm", version, about = "Decentralized multi-robot search on a grid (Yang, CCC 2017)")]
+#[command(after_help = "Exit status: 0 success, 1 error, 2 usage error, 3 `check` found a failing assumption.")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// One search: a summary, or one JSON object; with --out, its files.
+    Simulate {
+        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        #[arg(long, default_value = "paper")]
+        scenario: String,
+        /// repulsive, sequential, ru, lfp or escape.
+        #[arg(long, default_value = "repulsive")]
+        algorithm: Policy,
+        /// Number of robots [default: the scenario's].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_ROBOTS as i64))]
+        robots: Option<u32>,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// 1: the number of targets is known; 2: it is not [default: the scenario's].
+        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+        situation: Option<u8>,
+        /// Write summary.json, trajectories.jsonl and routes.svg here (created if missing).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print exactly one JSON object instead of the summary.
+        #[arg(long)]
+        json: bool,
+        /// A run not stopped after this many rounds ends incomplete.
+        #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
+        max_rounds: u32,
+    },
+    /// The Monte Carlo sweep of Fig. 7 and its claims; with --grids, the
+    /// lattice comparison of Sec. 3 instead.
+    ///
+    /// Writes results.csv, runs.csv, fig7.svg, claims.txt and summary.json
+    /// (grids.csv with --grids) in --out, and prints the table and claims.
+    Experiment {
+        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        #[arg(long, default_value = "paper")]
+        scenario: String,
+        /// Comma-separated algorithms.
+        #[arg(long, value_delimiter = ',', default_value = DEFAULT_ALGORITHMS, conflicts_with = "grids")]
+        algorithms: Vec<Policy>,
+        /// Robot counts: `1-13`, `5` or `1,3,5`.
+        #[arg(long, default_value = DEFAULT_ROBOTS, conflicts_with = "grids")]
+        robots: RobotCounts,
+        /// Runs per (algorithm, robot count).
+        #[arg(long, default_value_t = DEFAULT_RUNS, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "grids")]
+        runs: u32,
+        /// Base seed; each run's seed derives from it, the algorithm, the robot count and the run index.
+        #[arg(long, default_value_t = 1, conflicts_with = "grids")]
+        seed: u64,
+        /// 1: the number of targets is known; 2: it is not [default: the scenario's].
+        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2), conflicts_with = "grids")]
+        situation: Option<u8>,
+        /// Output directory (created if missing).
+        #[arg(long, default_value = DEFAULT_OUT)]
+        out: PathBuf,
+        /// A run not stopped after this many rounds ends incomplete and is left out of the means.
+        #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "grids")]
+        max_rounds: u32,
+        /// Compare the triangular, square and hexagonal lattices on the map (Sec. 3).
+        #[arg(long)]
+        grids: bool,
+    },
+    /// Validate a scenario and report which of the paper's assumptions hold.
+    Check {
+        /// Built-in scenario or TOML file.
+        #[arg(default_value = "paper")]
+        scenario: String,
+    },
+}
+
+/// Writes to stdout without `print!`'s panic on a closed pipe
+/// (`gridswarm experiment | head` must not end in a panic).
+fn emit(text: &str) {
+    let mut out = std::io::stdout().lock();
+    let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
+}
+
+fn situation(n: Option<u8>) -> Option<Situation> {
+    n.and_then(Situation::from_number)
+}
+
+fn run(cli: Cli) -> Result<ExitCode, Error> {
+    match cli.command {
+        Command::Simulate { scenario, algorithm, robots, seed, situation: s, out, json, max_rounds } => {
+            let opts = SimulateOptions {
+                scenario,
+                algorithm,
+                robots: robots.map(|r| r as usize),
+                seed,
+                situation: situation(s),
+                out,
+                json,
+                max_rounds,
+            };
+            emit(&simulate::simulate(&opts)?);
+        }
+        Command::Experiment { scenario, out, grids: true, .. } => {
+            let (_, text) = grids::run(&GridsOptions { scenario, out })?;
+            emit(&text);
+        }
+        Command::Experiment {
+            scenario,
+            algorithms,
+            robots,
+            runs,
+            seed,
+            situation: s,
+            out,
+            max_rounds,
+            grids: false,
+        } => {
+            let opts = ExperimentOptions {
+                scenario,
+                algorithms,
+                robots: robots.0,
+                runs,
+                seed,
+                situation: situation(s),
+                out,
+                max_rounds,
+                progress: experiment::stderr_is_terminal(),
+            };
+            let (_, text) = experiment::run(&opts)?;
+            emit(&text);
+        }
+        Command::Check { scenario } => {
+            let outcome = check::check(&scenario)?;
+            emit(&outcome.text);
+            if !outcome.all_hold() {
+                eprintln!("error: scenario `{scenario}` fails check(s) {}", outcome.failing_ids());
+                return Ok(ExitCode::from(3));
+            }
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => {
+            // --help and --version: clap's own output, success.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            // No subcommand: the help is the answer, but the call still failed.
+            let _ = e.print();
+            return ExitCode::from(2);
+        }
+        Err(e) => {
+            // Clap's message is several lines (usage, tips); keep the one that says what is wrong.
+            let rendered = e.to_string();
+            let line = rendered.lines().find(|l| !l.trim().is_empty()).unwrap_or("error: bad arguments");
+            eprintln!("{line}");
+            return ExitCode::from(2);
+        }
+    };
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

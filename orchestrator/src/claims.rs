@@ -1,0 +1,470 @@
+//! The three claims the paper makes about Fig. 7, checked on a sweep's
+//! table of mean search times. Each claim is given a plain, fixed criterion
+//! (stated in its output) and is evaluated only when the sweep holds the
+//! algorithms and robot counts it needs. Nothing here feeds back into the
+//! runs: the claims are measured, never tuned for.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::fmt::Write as _;
+
+use gridswarm::policy::Policy;
+use serde::Serialize;
+use serde_json::json;
+
+use crate::robots::compress;
+use crate::stats::CellStats;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    Holds,
+    Fails,
+    NotEvaluated,
+}
+
+impl Verdict {
+    pub fn word(self) -> &'static str {
+        match self {
+            Verdict::Holds => "HOLDS",
+            Verdict::Fails => "DOES NOT HOLD",
+            Verdict::NotEvaluated => "not evaluated",
+        }
+    }
+}
+
+/// One claim's outcome: the verdict, the rule that gave it, and the numbers.
+#[derive(Clone, Debug, Serialize)]
+pub struct ClaimResult {
+    pub id: &'static str,
+    pub statement: &'static str,
+    pub criterion: &'static str,
+    pub verdict: Verdict,
+    /// Human-readable evidence, one line each.
+    pub lines: Vec<String>,
+    /// The same evidence as data, for `summary.json`.
+    pub data: serde_json::Value,
+}
+
+/// Fig. 7's ordering, slowest first.
+const ORDER: [Policy; 4] = [Policy::Lfp, Policy::Ru, Policy::Sequential, Policy::Repulsive];
+
+/// The robot counts of claim (b).
+const RU_SLOWER_FROM: usize = 9;
+const RU_SLOWER_TO: usize = 13;
+
+/// Claim (c): the first third of the range must fall at least this many
+/// times faster per added robot than the last third.
+const SHARP_FACTOR: f64 = 3.0;
+
+#[derive(Clone, Copy)]
+struct Cell {
+    mean: f64,
+    /// Half-width of the 95% interval; 0 when unknown (one completed run).
+    ci: f64,
+}
+
+/// Cells with at least one completed run, by (algorithm, robots).
+struct Table {
+    cells: HashMap<(Policy, usize), Cell>,
+    /// Every robot count with at least one such cell, ascending.
+    counts: Vec<usize>,
+}
+
+impl Table {
+    fn new(cells: &[CellStats]) -> Self {
+        let cells: HashMap<(Policy, usize), Cell> = cells
+            .iter()
+            .filter_map(|c| {
+                c.mean_search_time_s.map(|m| ((c.algorithm, c.robots), Cell { mean: m, ci: c.ci95_s.unwrap_or(0.0) }))
+            })
+            .collect();
+        let counts: BTreeSet<usize> = cells.keys().map(|&(_, r)| r).collect();
+        Table { cells, counts: counts.into_iter().collect() }
+    }
+
+    fn has(&self, p: Policy, r: usize) -> bool {
+        self.cells.contains_key(&(p, r))
+    }
+
+    /// The cell; only called after [`Table::has`].
+    fn at(&self, p: Policy, r: usize) -> Cell {
+        self.cells[&(p, r)]
+    }
+
+    fn counts_of(&self, p: Policy) -> Vec<usize> {
+        self.counts.iter().copied().filter(|&r| self.has(p, r)).collect()
+    }
+}
+
+/// Whether `slow` is slower than `fast` by more than the 95% interval of the
+/// difference of two independent means.
+fn significant(slow: Cell, fast: Cell) -> bool {
+    slow.mean - fast.mean > (slow.ci * slow.ci + fast.ci * fast.ci).sqrt()
+}
+
+/// Evaluates the three claims on a sweep's cells.
+pub fn evaluate(cells: &[CellStats]) -> Vec<ClaimResult> {
+    let t = Table::new(cells);
+    let present: Vec<Policy> = {
+        let mut v: Vec<Policy> = Vec::new();
+        for c in cells {
+            if !v.contains(&c.algorithm) {
+                v.push(c.algorithm);
+            }
+        }
+        v
+    };
+    vec![ordering(&t, &present), ru_slower(&t, &present), sharp_then_slow(&t, &present)]
+}
+
+fn not_evaluated(id: &'static str, statement: &'static str, criterion: &'static str, why: String) -> ClaimResult {
+    ClaimResult {
+        id,
+        statement,
+        criterion,
+        verdict: Verdict::NotEvaluated,
+        lines: vec![why.clone()],
+        data: json!({ "reason": why.trim() }),
+    }
+}
+
+fn ordering(t: &Table, present: &[Policy]) -> ClaimResult {
+    const ID: &str = "a";
+    const STATEMENT: &str = "generally LFP > RU > (1)&(3) > (1),(2)&(3) in mean search time";
+    const CRITERION: &str = "holds when the full ordering holds (strictly, on the means) at more than half of the \
+                             robot counts with completed runs of all four algorithms";
+    let missing: Vec<&str> = ORDER.iter().filter(|p| !present.contains(p)).map(|p| p.name()).collect();
+    if !missing.is_empty() {
+        return not_evaluated(ID, STATEMENT, CRITERION, format!("  the sweep lacks {}", missing.join(", ")));
+    }
+    let counts = &t.counts;
+    let full_counts: Vec<usize> = counts.iter().copied().filter(|&r| ORDER.iter().all(|&p| t.has(p, r))).collect();
+    if full_counts.is_empty() {
+        return not_evaluated(
+            ID,
+            STATEMENT,
+            CRITERION,
+            "  no robot count has completed runs of all four algorithms".into(),
+        );
+    }
+    let mut lines = Vec::new();
+    let mut per_count = Vec::new();
+    let mut full_holds = Vec::new();
+    for &r in &full_counts {
+        let m: Vec<f64> = ORDER.iter().map(|&p| t.at(p, r).mean).collect();
+        let broken: Vec<String> = ORDER
+            .windows(2)
+            .zip(m.windows(2))
+            .filter(|(_, mm)| mm[0] <= mm[1])
+            .map(|(pp, _)| format!("{} <= {}", pp[0].paper_label(), pp[1].paper_label()))
+            .collect();
+        let holds = broken.is_empty();
+        if holds {
+            full_holds.push(r);
+        }
+        let values: Vec<String> = ORDER.iter().zip(&m).map(|(p, v)| format!("{} {v:.1}", p.paper_label())).collect();
+        lines.push(format!(
+            "  {r:>3} robot{}: {}  {}",
+            if r == 1 { " " } else { "s" },
+            values.join(" | "),
+            if holds { "ordering holds".to_string() } else { format!("fails: {}", broken.join(", ")) }
+        ));
+        per_count.push(json!({ "robots": r, "means_s": ORDER.iter().zip(&m).map(|(p, v)| (p.name(), *v)).collect::<BTreeMap<_, _>>(), "holds": holds }));
+    }
+    lines.push(format!(
+        "  full ordering holds at {}/{} robot counts ({})",
+        full_holds.len(),
+        full_counts.len(),
+        if full_holds.is_empty() { "none".to_string() } else { compress(&full_holds) }
+    ));
+    let mut pairs = Vec::new();
+    for w in ORDER.windows(2) {
+        let (slow, fast) = (w[0], w[1]);
+        let both: Vec<usize> = counts.iter().copied().filter(|&r| t.has(slow, r) && t.has(fast, r)).collect();
+        let holds = both.iter().filter(|&&r| t.at(slow, r).mean > t.at(fast, r).mean).count();
+        let sig = both.iter().filter(|&&r| significant(t.at(slow, r), t.at(fast, r))).count();
+        lines.push(format!(
+            "  {} > {}: at {holds}/{} robot counts ({:.2}); beyond the 95% interval of the difference at {sig}",
+            slow.paper_label(),
+            fast.paper_label(),
+            both.len(),
+            holds as f64 / both.len().max(1) as f64
+        ));
+        pairs.push(json!({ "slower": slow.name(), "faster": fast.name(), "counts": both.len(), "holds": holds, "significant": sig }));
+    }
+    let verdict = if 2 * full_holds.len() > full_counts.len() { Verdict::Holds } else { Verdict::Fails };
+    ClaimResult {
+        id: ID,
+        statement: STATEMENT,
+        criterion: CRITERION,
+        verdict,
+        lines,
+        data: json!({ "robot_counts": full_counts, "full_ordering_holds_at": full_holds, "per_count": per_count, "pairs": pairs }),
+    }
+}
+
+fn ru_slower(t: &Table, present: &[Policy]) -> ClaimResult {
+    const ID: &str = "b";
+    const STATEMENT: &str = "RU > LFP in mean search time for 9 to 13 robots";
+    const CRITERION: &str = "holds when RU's mean exceeds LFP's at every robot count from 9 to 13 in the sweep";
+    let missing: Vec<&str> =
+        [Policy::Ru, Policy::Lfp].iter().filter(|p| !present.contains(p)).map(|p| p.name()).collect();
+    if !missing.is_empty() {
+        return not_evaluated(ID, STATEMENT, CRITERION, format!("  the sweep lacks {}", missing.join(", ")));
+    }
+    let counts: Vec<usize> =
+        (RU_SLOWER_FROM..=RU_SLOWER_TO).filter(|&r| t.has(Policy::Ru, r) && t.has(Policy::Lfp, r)).collect();
+    if counts.is_empty() {
+        return not_evaluated(
+            ID,
+            STATEMENT,
+            CRITERION,
+            "  no robot count from 9 to 13 has completed runs of both RU and LFP".into(),
+        );
+    }
+    let mut lines = Vec::new();
+    let mut per_count = Vec::new();
+    let mut held = 0;
+    for &r in &counts {
+        let (ru, lfp) = (t.at(Policy::Ru, r), t.at(Policy::Lfp, r));
+        let holds = ru.mean > lfp.mean;
+        held += usize::from(holds);
+        let sig = if holds { significant(ru, lfp) } else { significant(lfp, ru) };
+        lines.push(format!(
+            "  {r:>3} robot{}: RU {:.1} vs LFP {:.1} (RU - LFP = {:+.1} s{}): {}",
+            if r == 1 { "" } else { "s" },
+            ru.mean,
+            lfp.mean,
+            ru.mean - lfp.mean,
+            if sig { ", beyond the 95% interval" } else { ", within the 95% interval" },
+            if holds { "holds" } else { "fails" }
+        ));
+        per_count.push(json!({ "robots": r, "ru_s": ru.mean, "lfp_s": lfp.mean, "holds": holds, "significant": sig }));
+    }
+    if counts.len() < RU_SLOWER_TO - RU_SLOWER_FROM + 1 {
+        lines.push(format!("  only robot counts {} of 9-13 are in the sweep", compress(&counts)));
+    }
+    lines.push(format!("  holds at {held}/{} robot counts", counts.len()));
+    ClaimResult {
+        id: ID,
+        statement: STATEMENT,
+        criterion: CRITERION,
+        verdict: if held == counts.len() { Verdict::Holds } else { Verdict::Fails },
+        lines,
+        data: json!({ "per_count": per_count, "holds_at": held, "counts": counts.len() }),
+    }
+}
+
+/// A drop rate in words: a negative drop is a rise.
+fn slope(drop: f64) -> String {
+    if drop >= 0.0 {
+        format!("falls {drop:.1} s/robot")
+    } else {
+        format!("rises {:.1} s/robot", -drop)
+    }
+}
+
+/// Mean drop of the search time per added robot between two robot counts.
+fn drop_rate(t: &Table, p: Policy, from: usize, to: usize) -> f64 {
+    (t.at(p, from).mean - t.at(p, to).mean) / (to - from) as f64
+}
+
+fn sharp_then_slow(t: &Table, present: &[Policy]) -> ClaimResult {
+    const ID: &str = "c";
+    const STATEMENT: &str = "every curve falls sharply at first, then slowly";
+    const CRITERION: &str = "per algorithm, over the sweep's robot range [lo, hi]: the mean drop in search time per \
+                             added robot from lo to the last count <= lo + (hi-lo)/3 must be positive and at least 3 \
+                             times the drop from the first count >= hi - (hi-lo)/3 to hi; the claim holds when every \
+                             evaluated algorithm passes";
+    let mut lines = Vec::new();
+    let mut per_alg = Vec::new();
+    let (mut evaluated, mut passed) = (0, 0);
+    for &p in present {
+        let counts = t.counts_of(p);
+        let (Some(&lo), Some(&hi)) = (counts.first(), counts.last()) else {
+            lines.push(format!("  {}: not evaluated (no completed runs)", p.paper_label()));
+            continue;
+        };
+        let third = (hi - lo) as f64 / 3.0;
+        let first_end = counts.iter().copied().filter(|&r| r as f64 <= lo as f64 + third).max().unwrap_or(lo);
+        let last_start = counts.iter().copied().filter(|&r| r as f64 >= hi as f64 - third).min().unwrap_or(hi);
+        if first_end <= lo || last_start >= hi || first_end > last_start {
+            lines.push(format!(
+                "  {}: not evaluated (robot counts {} too few to split into thirds)",
+                p.paper_label(),
+                compress(&counts)
+            ));
+            continue;
+        }
+        let first = drop_rate(t, p, lo, first_end);
+        let last = drop_rate(t, p, last_start, hi);
+        let holds = first > 0.0 && first >= SHARP_FACTOR * last;
+        evaluated += 1;
+        passed += usize::from(holds);
+        let ratio =
+            if last > 0.0 { format!("ratio {:.1}", first / last) } else { "the last third does not fall".to_string() };
+        lines.push(format!(
+            "  {}: {lo}->{first_end} robots {}; {last_start}->{hi} robots {} ({ratio}): {}",
+            p.paper_label(),
+            slope(first),
+            slope(last),
+            if holds { "holds" } else { "fails" }
+        ));
+        per_alg.push(json!({
+            "algorithm": p.name(), "first": [lo, first_end], "first_drop_s_per_robot": first,
+            "last": [last_start, hi], "last_drop_s_per_robot": last, "holds": holds,
+        }));
+    }
+    let verdict = match (evaluated, passed) {
+        (0, _) => Verdict::NotEvaluated,
+        (e, p) if e == p => Verdict::Holds,
+        _ => Verdict::Fails,
+    };
+    if evaluated > 0 {
+        lines.push(format!("  holds for {passed}/{evaluated} algorithms"));
+    }
+    ClaimResult {
+        id: ID,
+        statement: STATEMENT,
+        criterion: CRITERION,
+        verdict,
+        lines,
+        data: json!({ "per_algorithm": per_alg }),
+    }
+}
+
+/// The claims as text, for the terminal and `claims.txt`.
+pub fn render(claims: &[ClaimResult]) -> String {
+    let mut out = String::new();
+    for c in claims {
+        let _ = writeln!(out, "Claim ({}) {}: {}", c.id, c.statement, c.verdict.word());
+        if c.verdict != Verdict::NotEvaluated {
+            let _ = writeln!(out, "  criterion: {}", c.criterion);
+        }
+        for l in &c.lines {
+            let _ = writeln!(out, "{l}");
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cell(p: Policy, r: usize, mean: f64) -> CellStats {
+        CellStats {
+            algorithm: p,
+            robots: r,
+            runs: 10,
+            completed_runs: 10,
+            mean_search_time_s: Some(mean),
+            std_search_time_s: Some(1.0),
+            ci95_s: Some(0.5),
+            mean_rounds: Some(1.0),
+            mean_collisions: Some(0.0),
+            median_search_time_s: Some(mean),
+            mean_targets_found: 9.0,
+        }
+    }
+
+    /// A paper-like table: curves 1000 * base / r^1.5 + small rise, with RU
+    /// overtaking LFP from 9 robots on.
+    fn paperlike() -> Vec<CellStats> {
+        let mut v = Vec::new();
+        for r in 1..=13usize {
+            let f = 1.0 / (r as f64).powf(1.5);
+            let lfp = 4000.0 * f + 100.0;
+            let ru = 3000.0 * f + if r >= 9 { 100.0 + 20.0 * r as f64 } else { 0.0 } + 50.0;
+            v.push(cell(Policy::Lfp, r, lfp));
+            v.push(cell(Policy::Ru, r, ru));
+            v.push(cell(Policy::Sequential, r, 2000.0 * f + 20.0));
+            v.push(cell(Policy::Repulsive, r, 1500.0 * f + 10.0));
+        }
+        v
+    }
+
+    fn by_id<'a>(c: &'a [ClaimResult], id: &str) -> &'a ClaimResult {
+        c.iter().find(|x| x.id == id).unwrap()
+    }
+
+    #[test]
+    fn paperlike_table_passes_all() {
+        let c = evaluate(&paperlike());
+        let text = render(&c);
+        assert_eq!(by_id(&c, "a").verdict, Verdict::Holds, "{text}");
+        assert_eq!(by_id(&c, "b").verdict, Verdict::Holds, "{text}");
+        assert_eq!(by_id(&c, "c").verdict, Verdict::Holds, "{text}");
+        assert!(text.contains("full ordering holds at 8/13"), "{text}");
+        assert!(text.contains("LFP > RU: at 8/13 robot counts (0.62)"), "{text}");
+        assert!(text.contains("holds at 5/5 robot counts"), "{text}");
+        assert!(text.contains("holds for 4/4 algorithms"), "{text}");
+    }
+
+    #[test]
+    fn swapped_order_fails_a() {
+        let mut v = paperlike();
+        for c in &mut v {
+            if c.algorithm == Policy::Repulsive {
+                c.mean_search_time_s = Some(c.mean_search_time_s.unwrap() * 10.0);
+            }
+        }
+        let c = evaluate(&v);
+        let a = by_id(&c, "a");
+        assert_eq!(a.verdict, Verdict::Fails);
+        assert!(render(&c).contains("(1)&(3) > (1),(2)&(3): at 0/13"));
+    }
+
+    #[test]
+    fn b_fails_when_ru_faster_somewhere() {
+        let mut v = paperlike();
+        for c in &mut v {
+            if c.algorithm == Policy::Ru && c.robots == 11 {
+                c.mean_search_time_s = Some(1.0);
+            }
+        }
+        let c = evaluate(&v);
+        assert_eq!(by_id(&c, "b").verdict, Verdict::Fails);
+        assert!(by_id(&c, "b").lines.iter().any(|l| l.contains("11 robots") && l.ends_with("fails")));
+    }
+
+    #[test]
+    fn linear_fall_fails_c() {
+        // Linear: the same drop per robot everywhere, so not "sharp then slow".
+        let v: Vec<CellStats> = (1..=13).map(|r| cell(Policy::Repulsive, r, 1000.0 - 50.0 * r as f64)).collect();
+        let c = evaluate(&v);
+        let cc = by_id(&c, "c");
+        assert_eq!(cc.verdict, Verdict::Fails, "{}", render(&c));
+        assert!(cc.lines[0].contains("1->5 robots falls 50.0 s/robot; 9->13 robots falls 50.0"), "{}", cc.lines[0]);
+    }
+
+    #[test]
+    fn missing_algorithms_or_counts_are_not_evaluated() {
+        // Robots 1-3 of two algorithms: (a) lacks algorithms, (b) lacks
+        // counts 9-13, (c) has too few counts for thirds.
+        let v: Vec<CellStats> =
+            (1..=3).flat_map(|r| [cell(Policy::Ru, r, 10.0 / r as f64), cell(Policy::Lfp, r, 20.0)]).collect();
+        let c = evaluate(&v);
+        for id in ["a", "b"] {
+            assert_eq!(by_id(&c, id).verdict, Verdict::NotEvaluated, "{id}");
+        }
+        // 1..3: thirds are [1, 1.67] and [2.33, 3]: no second count in the first.
+        assert_eq!(by_id(&c, "c").verdict, Verdict::NotEvaluated);
+        let text = render(&c);
+        assert!(text.contains("the sweep lacks sequential, repulsive"), "{text}");
+        assert!(text.contains("not evaluated"), "{text}");
+    }
+
+    #[test]
+    fn cells_without_completed_runs_are_skipped() {
+        let mut v = paperlike();
+        for c in &mut v {
+            if c.algorithm == Policy::Lfp && c.robots == 2 {
+                c.completed_runs = 0;
+                c.mean_search_time_s = None;
+            }
+        }
+        let c = evaluate(&v);
+        assert!(render(&c).contains("full ordering holds at 7/12"), "{}", render(&c));
+    }
+}

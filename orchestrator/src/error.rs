@@ -1,0 +1,29 @@
+//! The command's error type: every failure the user can cause ends as one
+//! `error: ...` line and a non-zero exit, never a panic.
+
+use std::path::PathBuf;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A scenario that cannot be loaded, validated or placed.
+    #[error("{0}")]
+    Scenario(String),
+    /// A command-line value that parsed but does not fit the scenario.
+    #[error("{0}")]
+    Input(String),
+    #[error("cannot create output directory `{}`: {source}", path.display())]
+    OutDir { path: PathBuf, source: std::io::Error },
+    #[error("cannot write `{}`: {source}", path.display())]
+    Write { path: PathBuf, source: std::io::Error },
+    #[error("cannot draw `{}`: {message}", path.display())]
+    Plot { path: PathBuf, message: String },
+}
+
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    pub fn write(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> Error {
+        let path = path.into();
+        move |source| Error::Write { path, source }
+    }
+}

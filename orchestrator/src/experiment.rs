@@ -1,0 +1,337 @@
+//! `gridswarm experiment`: the Monte Carlo sweep of Fig. 7. Every run of
+//! every (algorithm, robot count) goes through one rayon pool; each run's
+//! seed depends only on the base seed and its cell and index ([`seeds`]),
+//! and results are collected in run order, so every file the sweep writes
+//! is the same whatever the thread count.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::time::Instant;
+
+use gridswarm::grid::VertexId;
+use gridswarm::outcome::RunConfig;
+use gridswarm::params::Situation;
+use gridswarm::policy::Policy;
+use gridswarm::scenario::Scenario;
+use gridswarm::world::World;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use serde_json::json;
+
+use crate::claims::{self, ClaimResult};
+use crate::contract::{self, Runner};
+use crate::error::{Error, Result};
+use crate::robots::compress;
+use crate::seeds::run_seed;
+use crate::stats::{CellStats, RunRecord};
+use crate::{check, output, plot};
+
+/// The algorithms of Fig. 7, in its legend's order.
+pub const DEFAULT_ALGORITHMS: &str = "lfp,ru,sequential,repulsive";
+pub const DEFAULT_ROBOTS: &str = "1-13";
+pub const DEFAULT_RUNS: u32 = 500;
+pub const DEFAULT_OUT: &str = "experiment-out";
+
+#[derive(Clone, Debug)]
+pub struct ExperimentOptions {
+    pub scenario: String,
+    pub algorithms: Vec<Policy>,
+    pub robots: Vec<usize>,
+    pub runs: u32,
+    pub seed: u64,
+    pub situation: Option<Situation>,
+    pub out: PathBuf,
+    pub max_rounds: u32,
+    /// Show a progress bar (only sensible when stderr is a terminal).
+    pub progress: bool,
+}
+
+/// Everything a sweep produced.
+pub struct Sweep {
+    pub cells: Vec<CellStats>,
+    pub claims: Vec<ClaimResult>,
+    pub wall_time_s: f64,
+}
+
+/// Whether to draw a progress bar: only for a person watching a terminal.
+pub fn stderr_is_terminal() -> bool {
+    std::io::stderr().is_terminal()
+}
+
+pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
+    if opts.runs == 0 {
+        return Err(Error::Input("--runs must be at least 1".into()));
+    }
+    let mut algorithms: Vec<Policy> = Vec::new();
+    for &p in &opts.algorithms {
+        if !algorithms.contains(&p) {
+            algorithms.push(p);
+        }
+    }
+    if algorithms.is_empty() || opts.robots.is_empty() {
+        return Err(Error::Input("the sweep needs at least one algorithm and one robot count".into()));
+    }
+    let mut scenario = contract::load_scenario(&opts.scenario)?;
+    if let Some(s) = opts.situation {
+        scenario.situation = s;
+    }
+    // Before any run, so a bad directory fails at once.
+    output::create_dir(&opts.out)?;
+    let world = scenario.world();
+    let lfp = contract::lfp_params(&scenario);
+    let starts = place(&scenario, &world, &opts.robots)?;
+
+    let started = Instant::now();
+    let plan = Plan { algorithms: &algorithms, robots: &opts.robots, starts: &starts, runs: opts.runs as usize };
+    let records = plan.execute(&Runner::new(&world, lfp), scenario.situation, opts);
+    let wall_time_s = started.elapsed().as_secs_f64();
+
+    let cells: Vec<CellStats> =
+        plan.cells().zip(records.chunks(plan.runs)).map(|((p, r), c)| CellStats::of(p, r, c)).collect();
+    let claims = claims::evaluate(&cells);
+    let claims_text = incomplete_note(&cells, opts.max_rounds) + &claims::render(&claims);
+    let setup = format!(
+        "scenario {} ({} grid), situation {}, {} runs per cell, base seed {}, max {} rounds\n\
+         params: {}\nlfp: {}\n",
+        scenario.name,
+        scenario.grid.name(),
+        scenario.situation.number(),
+        opts.runs,
+        opts.seed,
+        opts.max_rounds,
+        serde_json::to_string(&scenario.params).expect("params serialise"),
+        serde_json::to_string(&lfp).expect("lfp params serialise"),
+    );
+
+    let out = &opts.out;
+    output::write_text(&out.join("results.csv"), &results_csv(&cells))?;
+    output::write_file(&out.join("runs.csv"), |w| plan.write_runs_csv(w, &records))?;
+    let fig_path = out.join("fig7.svg");
+    let title = format!("{}: mean search time of {} runs", scenario.name, opts.runs);
+    let svg = plot::fig7_svg(&cells, &algorithms, &title)
+        .map_err(|message| Error::Plot { path: fig_path.clone(), message })?;
+    output::write_text(&fig_path, &svg)?;
+    output::write_text(&out.join("claims.txt"), &format!("{setup}\n{claims_text}"))?;
+    let summary = json!({
+        "scenario": scenario.name,
+        "grid": scenario.grid.name(),
+        "situation": scenario.situation.number(),
+        "algorithms": algorithms.iter().map(|p| p.name()).collect::<Vec<_>>(),
+        "robots": opts.robots,
+        "runs": opts.runs,
+        "seed": opts.seed,
+        "seed_derivation": "run k of (algorithm, robots) has seed \
+            derive(derive(derive(seed, fnv1a(algorithm name)), robots), k) with gridswarm::rng::derive",
+        "max_rounds": opts.max_rounds,
+        "params": scenario.params,
+        "lfp": lfp,
+        "statistics": "mean, std (n-1), ci95 = 1.96 std / sqrt(n), median, rounds and collisions over completed \
+            runs; mean_targets_found over all runs",
+        "cells": cells,
+        "claims": claims,
+    });
+    output::write_json(&out.join("summary.json"), &summary)?;
+
+    let text = format!(
+        "{setup}{}\n{claims_text}\n{} runs in {wall_time_s:.2} s wall time on {} threads; \
+         wrote results.csv, runs.csv, fig7.svg, claims.txt, summary.json in {}\n",
+        table(&cells),
+        records.len(),
+        rayon::current_num_threads(),
+        out.display()
+    );
+    Ok((Sweep { cells, claims, wall_time_s }, text))
+}
+
+/// Start vertices for every robot count, placed before any run: a count the
+/// map cannot hold is an input error, better found before hours of runs than
+/// after. Failing assumptions are warned about once each, with the counts.
+fn place(scenario: &Scenario, world: &World, robots: &[usize]) -> Result<Vec<Vec<VertexId>>> {
+    let mut starts = Vec::with_capacity(robots.len());
+    let mut failing: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for &r in robots {
+        let s = contract::start_vertices(scenario, world, r)?;
+        for w in check::warnings(&contract::check_assumptions(scenario, world, &s)) {
+            failing.entry(w).or_default().push(r);
+        }
+        starts.push(s);
+    }
+    for (w, counts) in &failing {
+        eprintln!("{w} (robots {})", compress(counts));
+    }
+    Ok(starts)
+}
+
+/// The sweep's runs in their fixed order: algorithm, then robot count, then
+/// run index. Every output is laid out in this order.
+struct Plan<'a> {
+    algorithms: &'a [Policy],
+    robots: &'a [usize],
+    starts: &'a [Vec<VertexId>],
+    runs: usize,
+}
+
+impl Plan<'_> {
+    /// (algorithm, robots) of each cell, in order.
+    fn cells(&self) -> impl Iterator<Item = (Policy, usize)> + '_ {
+        self.algorithms.iter().flat_map(|&p| self.robots.iter().map(move |&r| (p, r)))
+    }
+
+    /// (algorithm index, robot-count index, run index) of each run, in order.
+    fn jobs(&self) -> Vec<(usize, usize, usize)> {
+        let (nr, runs) = (self.robots.len(), self.runs);
+        (0..self.algorithms.len()).flat_map(|a| (0..nr).flat_map(move |r| (0..runs).map(move |k| (a, r, k)))).collect()
+    }
+
+    /// Runs everything on all cores. `collect` keeps the job order whatever
+    /// thread ran a job, and the statistics are summed in that order, so the
+    /// output does not depend on scheduling.
+    fn execute(&self, runner: &Runner, situation: Situation, opts: &ExperimentOptions) -> Vec<RunRecord> {
+        let jobs = self.jobs();
+        let bar = if opts.progress {
+            let b = ProgressBar::with_draw_target(Some(jobs.len() as u64), ProgressDrawTarget::stderr());
+            b.set_style(
+                ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} runs, eta {eta}")
+                    .expect("static template")
+                    .progress_chars("=> "),
+            );
+            b
+        } else {
+            ProgressBar::hidden()
+        };
+        let records = jobs
+            .par_iter()
+            .map(|&(a, r, k)| {
+                let seed = run_seed(opts.seed, self.algorithms[a], self.robots[r], k as u64);
+                let mut cfg = RunConfig::new(self.algorithms[a], seed, situation);
+                cfg.max_rounds = opts.max_rounds;
+                // The sweep keeps numbers only: no poses, no raster pass.
+                cfg.record_trajectories = false;
+                cfg.measure_coverage = false;
+                let res = runner.run(&self.starts[r], &cfg);
+                bar.inc(1);
+                RunRecord {
+                    seed,
+                    search_time_s: res.search_time_s,
+                    rounds: res.rounds,
+                    collisions: res.collisions,
+                    targets_found: res.targets_found,
+                    complete: res.complete,
+                }
+            })
+            .collect();
+        bar.finish_and_clear();
+        records
+    }
+
+    /// `runs.csv`: every run, for analyses the summary does not foresee.
+    fn write_runs_csv(&self, w: &mut impl Write, records: &[RunRecord]) -> std::io::Result<()> {
+        writeln!(w, "algorithm,robots,run,seed,search_time_s,rounds,collisions,targets_found,complete")?;
+        for ((a, r, k), rec) in self.jobs().into_iter().zip(records) {
+            writeln!(
+                w,
+                "{},{},{k},{},{:.6},{},{},{},{}",
+                self.algorithms[a].name(),
+                self.robots[r],
+                rec.seed,
+                rec.search_time_s,
+                rec.rounds,
+                rec.collisions,
+                rec.targets_found,
+                rec.complete
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Incomplete runs hit the round limit and are left out of the means, which
+/// biases them down; say where that happened.
+fn incomplete_note(cells: &[CellStats], max_rounds: u32) -> String {
+    let short: Vec<String> = cells
+        .iter()
+        .filter(|c| c.completed_runs < c.runs)
+        .map(|c| format!("{} with {} robots {}/{}", c.algorithm.name(), c.robots, c.completed_runs, c.runs))
+        .collect();
+    if short.is_empty() {
+        return String::new();
+    }
+    format!(
+        "note: cells with runs that did not finish within {max_rounds} rounds (means are over completed runs): {}\n",
+        short.join("; ")
+    )
+}
+
+pub const RESULTS_HEADER: &str = "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,\
+                                  mean_rounds,mean_collisions,label,median_search_time_s,mean_targets_found";
+
+/// `results.csv`: one row per cell; empty fields where there were too few
+/// completed runs for the statistic.
+pub fn results_csv(cells: &[CellStats]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{RESULTS_HEADER}");
+    for c in cells {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},\"{}\",{},{:.6}",
+            c.algorithm.name(),
+            c.robots,
+            c.runs,
+            c.completed_runs,
+            output::csv_num(c.mean_search_time_s),
+            output::csv_num(c.std_search_time_s),
+            output::csv_num(c.ci95_s),
+            output::csv_num(c.mean_rounds),
+            output::csv_num(c.mean_collisions),
+            c.algorithm.paper_label(),
+            output::csv_num(c.median_search_time_s),
+            c.mean_targets_found
+        );
+    }
+    s
+}
+
+/// The cells as an aligned table for the terminal.
+pub fn table(cells: &[CellStats]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<11} {:<12} {:>6} {:>6} {:>10} {:>9} {:>9} {:>10}",
+        "algorithm", "label", "robots", "done", "mean_s", "ci95_s", "rounds", "collisions"
+    );
+    let f = |x: Option<f64>, d: usize| x.map(|v| format!("{v:.d$}")).unwrap_or_else(|| "-".into());
+    for c in cells {
+        let _ = writeln!(
+            s,
+            "{:<11} {:<12} {:>6} {:>6} {:>10} {:>9} {:>9} {:>10}",
+            c.algorithm.name(),
+            c.algorithm.paper_label(),
+            c.robots,
+            format!("{}/{}", c.completed_runs, c.runs),
+            f(c.mean_search_time_s, 1),
+            f(c.ci95_s, 1),
+            f(c.mean_rounds, 1),
+            f(c.mean_collisions, 2)
+        );
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_header_and_empty_fields() {
+        let recs =
+            [RunRecord { seed: 1, search_time_s: 10.0, rounds: 2, collisions: 0, targets_found: 3, complete: false }];
+        let csv = results_csv(&[CellStats::of(Policy::Sequential, 4, &recs)]);
+        let mut lines = csv.lines();
+        assert!(lines.next().unwrap().starts_with(
+            "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,mean_rounds,mean_collisions"
+        ));
+        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000");
+    }
+}

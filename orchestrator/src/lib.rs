@@ -1,0 +1,19 @@
+//! The `gridswarm` command as a library: every subcommand's work and the
+//! writers other engines reuse (trajectories, summaries), so that `main.rs`
+//! is only argument parsing and error printing.
+
+pub mod check;
+pub mod claims;
+pub mod contract;
+pub mod error;
+pub mod experiment;
+pub mod grids;
+pub mod output;
+pub mod plot;
+pub mod robots;
+pub mod routes;
+pub mod seeds;
+pub mod simulate;
+pub mod stats;
+
+pub use error::{Error, Result};

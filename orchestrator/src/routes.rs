@@ -1,0 +1,312 @@
+//! `routes.svg`: the area, obstacles, accessible vertices, targets with
+//! their sensing circles and each robot's route with arrows, like the
+//! paper's Fig. 5. Written by hand: it is a few element kinds, and plain
+//! SVG keeps every arrow exactly on its edge.
+
+use std::fmt::Write as _;
+
+use gridswarm::geometry::{Point, Polygon, Shape};
+use gridswarm::outcome::Pose;
+use gridswarm::world::World;
+
+/// Distinct colours for the first robots (Tableau 10), then golden-angle
+/// hues, so any number of robots gets colours that differ from neighbours.
+pub fn robot_colour(r: usize) -> String {
+    const TAB10: [&str; 10] =
+        ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+    match TAB10.get(r) {
+        Some(c) => (*c).to_string(),
+        None => format!("hsl({:.0},70%,40%)", (r as f64 * 137.507_764) % 360.0),
+    }
+}
+
+/// Escapes text for XML content and attribute values.
+pub fn xml_escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Maps world coordinates (metres, y up) to SVG pixels (y down).
+struct Frame {
+    lo: Point,
+    hi: Point,
+    scale: f64,
+    margin: f64,
+    top: f64,
+}
+
+impl Frame {
+    fn x(&self, x: f64) -> f64 {
+        self.margin + (x - self.lo.x) * self.scale
+    }
+    fn y(&self, y: f64) -> f64 {
+        self.top + (self.hi.y - y) * self.scale
+    }
+    fn pt(&self, p: Point) -> String {
+        format!("{:.2},{:.2}", self.x(p.x), self.y(p.y))
+    }
+    fn len(&self, d: f64) -> f64 {
+        d * self.scale
+    }
+}
+
+fn polygon_points(f: &Frame, poly: &Polygon) -> String {
+    poly.points.iter().map(|&p| f.pt(p)).collect::<Vec<_>>().join(" ")
+}
+
+/// Route of one robot: its positions with consecutive repeats (waiting)
+/// removed, since a zero-length segment has no direction to draw.
+fn route(poses: &[Pose]) -> Vec<Point> {
+    let mut out: Vec<Point> = Vec::new();
+    for p in poses {
+        if out.last().is_none_or(|&q| (q - p.position).norm() > 1e-9) {
+            out.push(p.position);
+        }
+    }
+    out
+}
+
+/// The route map of a run as an SVG document.
+pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> String {
+    let (lo, hi) = world.area.bounding_box();
+    let (w, h) = ((hi.x - lo.x).max(1e-6), (hi.y - lo.y).max(1e-6));
+    // About 900 px on the long side, but never so small that vertices merge
+    // nor so large that a small map becomes a poster.
+    let scale = (900.0 / w.max(h)).clamp(8.0, 80.0);
+    let a = world.params.a;
+    let legend_w = 110.0;
+    let frame = Frame { lo, hi, scale, margin: 20.0, top: 40.0 };
+    let width = frame.margin * 2.0 + frame.len(w) + legend_w;
+    let height = frame.top + frame.len(h) + frame.margin;
+    let mut s = String::new();
+    let _ = writeln!(s, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.2} {height:.2}" font-family="sans-serif">"#
+    );
+    let _ = writeln!(s, "<title>{}</title>", xml_escape(title));
+    let _ = writeln!(s, r##"<rect x="0" y="0" width="{width:.2}" height="{height:.2}" fill="#ffffff"/>"##);
+    let _ = writeln!(s, r##"<text x="{:.2}" y="24" font-size="14">{}</text>"##, frame.margin, xml_escape(title));
+
+    let _ = writeln!(
+        s,
+        r##"<polygon id="area" points="{}" fill="#f4f4ef" stroke="#333333" stroke-width="1.5"/>"##,
+        polygon_points(&frame, &world.area)
+    );
+    let _ = writeln!(s, r##"<g id="obstacles" fill="#9a9a9a" stroke="#555555" stroke-width="1">"##);
+    for o in &world.obstacles {
+        match o {
+            Shape::Polygon(p) => {
+                let _ = writeln!(s, r#"<polygon points="{}"/>"#, polygon_points(&frame, p));
+            }
+            Shape::Circle(c) => {
+                let _ = writeln!(
+                    s,
+                    r#"<circle cx="{:.2}" cy="{:.2}" r="{:.2}"/>"#,
+                    frame.x(c.center.x),
+                    frame.y(c.center.y),
+                    frame.len(c.radius)
+                );
+            }
+        }
+    }
+    let _ = writeln!(s, "</g>");
+
+    let dot = (frame.len(a) * 0.04).clamp(0.6, 2.0);
+    let _ = writeln!(s, r##"<g id="vertices" fill="#b0b0b0">"##);
+    for v in world.accessible_vertices() {
+        let p = world.grid.position(v);
+        let _ = writeln!(s, r#"<circle cx="{:.2}" cy="{:.2}" r="{dot:.2}"/>"#, frame.x(p.x), frame.y(p.y));
+    }
+    let _ = writeln!(s, "</g>");
+
+    let _ = writeln!(s, r##"<g id="targets">"##);
+    let r_st = frame.len(world.params.r_st);
+    let star = (frame.len(a) * 0.15).clamp(3.0, 8.0);
+    for t in &world.targets {
+        let (x, y) = (frame.x(t.x), frame.y(t.y));
+        let _ = writeln!(
+            s,
+            r##"<circle cx="{x:.2}" cy="{y:.2}" r="{r_st:.2}" fill="#d62728" fill-opacity="0.06" stroke="#d62728" stroke-width="0.8" stroke-dasharray="4 3"/>"##
+        );
+        let _ = writeln!(
+            s,
+            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="#d62728" transform="rotate(45 {x:.2} {y:.2})"/>"##,
+            x - star / 2.0,
+            y - star / 2.0,
+            star,
+            star
+        );
+    }
+    let _ = writeln!(s, "</g>");
+
+    let stroke = (frame.len(a) * 0.05).clamp(1.0, 2.5);
+    let head = (frame.len(a) * 0.22).clamp(4.0, 12.0);
+    for (r, poses) in trajectories.iter().enumerate() {
+        let colour = robot_colour(r);
+        let pts = route(poses);
+        let _ = writeln!(s, r#"<g id="robot-{}" stroke="{colour}" fill="{colour}">"#, r + 1);
+        if pts.len() >= 2 {
+            let _ = writeln!(
+                s,
+                r#"<polyline points="{}" fill="none" stroke-width="{stroke:.2}" stroke-opacity="0.75" stroke-linejoin="round"/>"#,
+                pts.iter().map(|&p| frame.pt(p)).collect::<Vec<_>>().join(" ")
+            );
+            // One arrowhead at the middle of every segment, pointing along it.
+            for seg in pts.windows(2) {
+                let (p, q) = (seg[0], seg[1]);
+                let (px, py, qx, qy) = (frame.x(p.x), frame.y(p.y), frame.x(q.x), frame.y(q.y));
+                let (dx, dy) = (qx - px, qy - py);
+                let len = (dx * dx + dy * dy).sqrt();
+                if len < 1e-9 {
+                    continue;
+                }
+                let (ux, uy) = (dx / len, dy / len);
+                let (mx, my) = ((px + qx) / 2.0 + ux * head / 2.0, (py + qy) / 2.0 + uy * head / 2.0);
+                let (bx, by) = (mx - ux * head, my - uy * head);
+                let (nx, ny) = (-uy * head * 0.4, ux * head * 0.4);
+                let _ = writeln!(
+                    s,
+                    r#"<polygon points="{mx:.2},{my:.2} {:.2},{:.2} {:.2},{:.2}" stroke="none"/>"#,
+                    bx + nx,
+                    by + ny,
+                    bx - nx,
+                    by - ny
+                );
+            }
+        }
+        let _ = writeln!(s, "</g>");
+    }
+
+    // Start and end marks last, so that no later route hides them.
+    let _ = writeln!(s, r#"<g id="marks">"#);
+    for (r, poses) in trajectories.iter().enumerate() {
+        let colour = robot_colour(r);
+        let pts = route(poses);
+        if let Some(&start) = pts.first() {
+            let (x, y) = (frame.x(start.x), frame.y(start.y));
+            let rad = (frame.len(a) * 0.18).clamp(4.0, 10.0);
+            let _ = writeln!(
+                s,
+                r##"<rect class="start" data-robot="{}" x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="#ffffff" stroke="{colour}" stroke-width="2"/>"##,
+                r + 1,
+                x - rad,
+                y - rad,
+                2.0 * rad,
+                2.0 * rad
+            );
+            let _ = writeln!(
+                s,
+                r#"<text x="{x:.2}" y="{:.2}" font-size="{:.1}" text-anchor="middle" fill="{colour}">{}</text>"#,
+                y + rad * 0.45,
+                rad * 1.2,
+                r + 1
+            );
+        }
+        if let Some(&end) = pts.last() {
+            let _ = writeln!(
+                s,
+                r#"<circle class="end" data-robot="{}" cx="{:.2}" cy="{:.2}" r="{:.2}" fill="{colour}"/>"#,
+                r + 1,
+                frame.x(end.x),
+                frame.y(end.y),
+                stroke * 2.0
+            );
+        }
+    }
+    let _ = writeln!(s, "</g>");
+
+    // Legend: one swatch per robot, and what the marks mean.
+    let lx = frame.margin * 1.5 + frame.len(w);
+    let mut ly = frame.top + 10.0;
+    let _ = writeln!(s, r#"<g id="legend" font-size="12">"#);
+    for r in 0..trajectories.len() {
+        let _ = writeln!(
+            s,
+            r#"<line x1="{lx:.2}" y1="{ly:.2}" x2="{:.2}" y2="{ly:.2}" stroke="{}" stroke-width="3"/><text x="{:.2}" y="{:.2}">robot {}</text>"#,
+            lx + 22.0,
+            robot_colour(r),
+            lx + 28.0,
+            ly + 4.0,
+            r + 1
+        );
+        ly += 16.0;
+    }
+    ly += 8.0;
+    for line in ["square: start", "dot: end", "diamond: target", "dashed: r_st", "grey dots: accessible"] {
+        let _ = writeln!(s, r#"<text x="{lx:.2}" y="{ly:.2}" font-size="10">{line}</text>"#);
+        ly += 13.0;
+    }
+    let _ = writeln!(s, "</g>");
+    let _ = writeln!(s, "</svg>");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gridswarm::geometry::Circle;
+    use gridswarm::lattice::LatticeKind;
+    use gridswarm::params::Params;
+
+    fn world() -> World {
+        let area =
+            Polygon::new(vec![Point::new(0.0, 0.0), Point::new(6.0, 0.0), Point::new(6.0, 4.0), Point::new(0.0, 4.0)]);
+        let obstacle = Shape::Circle(Circle { center: Point::new(3.0, 2.0), radius: 0.5 });
+        let square = Shape::Polygon(Polygon::new(vec![
+            Point::new(4.5, 3.0),
+            Point::new(5.0, 3.0),
+            Point::new(5.0, 3.5),
+            Point::new(4.5, 3.5),
+        ]));
+        World::new(area, vec![obstacle, square], vec![Point::new(5.0, 1.0)], Params::default(), LatticeKind::Triangular)
+    }
+
+    fn poses(pts: &[(f64, f64)]) -> Vec<Pose> {
+        pts.iter().map(|&(x, y)| Pose { vertex: None, position: Point::new(x, y) }).collect()
+    }
+
+    #[test]
+    fn valid_xml_with_everything_drawn() {
+        let w = world();
+        let t = vec![poses(&[(1.0, 0.866), (2.0, 0.866), (2.0, 0.866), (2.5, 1.732)]), poses(&[(0.5, 2.598)])];
+        let svg = routes_svg(&w, &t, "paper <test> & co");
+        let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+        let root = doc.root_element();
+        assert_eq!(root.tag_name().name(), "svg");
+        let by_id =
+            |id: &str| doc.descendants().find(|n| n.attribute("id") == Some(id)).unwrap_or_else(|| panic!("no {id}"));
+        assert_eq!(by_id("obstacles").children().filter(|n| n.is_element()).count(), 2);
+        assert_eq!(by_id("vertices").children().filter(|n| n.is_element()).count(), w.accessible_vertices().count());
+        // Robot 1: the wait is dropped, so 2 segments and 2 arrowheads.
+        let r1 = by_id("robot-1");
+        assert_eq!(r1.children().filter(|n| n.has_tag_name("polygon")).count(), 2);
+        let starts = |r: &str| {
+            doc.descendants()
+                .filter(|n| n.attribute("class") == Some("start") && n.attribute("data-robot") == Some(r))
+                .count()
+        };
+        assert_eq!(starts("1"), 1);
+        // Robot 2 never moved: a start mark but no route.
+        let r2 = by_id("robot-2");
+        assert_eq!(r2.children().filter(|n| n.has_tag_name("polyline")).count(), 0);
+        assert_eq!(starts("2"), 1);
+        assert!(svg.contains("paper &lt;test&gt; &amp; co"));
+    }
+
+    #[test]
+    fn colours_distinct_for_many_robots() {
+        let cs: std::collections::HashSet<String> = (0..40).map(robot_colour).collect();
+        assert_eq!(cs.len(), 40);
+    }
+}

@@ -1,0 +1,117 @@
+//! `gridswarm simulate`: one run, a short summary or one JSON object on
+//! stdout, and optionally its files (summary, trajectories, route map).
+
+use std::path::PathBuf;
+
+use gridswarm::outcome::RunConfig;
+use gridswarm::params::Situation;
+use gridswarm::policy::Policy;
+use serde_json::json;
+
+use crate::contract::{self, Runner};
+use crate::error::{Error, Result};
+use crate::{check, output, routes};
+
+#[derive(Clone, Debug)]
+pub struct SimulateOptions {
+    pub scenario: String,
+    pub algorithm: Policy,
+    /// Robot count; the scenario's own when `None`.
+    pub robots: Option<usize>,
+    pub seed: u64,
+    /// The scenario's own when `None`.
+    pub situation: Option<Situation>,
+    pub out: Option<PathBuf>,
+    pub json: bool,
+    pub max_rounds: u32,
+}
+
+/// Runs once; returns the text for stdout (warnings go to stderr directly).
+pub fn simulate(opts: &SimulateOptions) -> Result<String> {
+    let mut scenario = contract::load_scenario(&opts.scenario)?;
+    if let Some(s) = opts.situation {
+        scenario.situation = s;
+    }
+    let robots = opts.robots.unwrap_or(scenario.robots);
+    if robots == 0 {
+        return Err(Error::Input("at least 1 robot is needed".into()));
+    }
+    // Before the run, so a bad directory fails at once.
+    if let Some(dir) = &opts.out {
+        output::create_dir(dir)?;
+    }
+    let world = scenario.world();
+    let starts = contract::start_vertices(&scenario, &world, robots)?;
+    for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
+        eprintln!("{w}");
+    }
+    let lfp = contract::lfp_params(&scenario);
+    let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
+    cfg.max_rounds = opts.max_rounds;
+    cfg.record_trajectories = opts.out.is_some();
+    cfg.measure_coverage = true;
+    let result = Runner::new(&world, lfp).run(&starts, &cfg);
+
+    let mut summary = output::run_summary(&scenario, &lfp, &result);
+    summary["max_rounds"] = json!(opts.max_rounds);
+    summary["starts"] = json!(starts
+        .iter()
+        .map(|&v| {
+            let c = world.grid.coord(v);
+            [c.i, c.j]
+        })
+        .collect::<Vec<_>>());
+
+    let mut written = Vec::new();
+    if let Some(dir) = &opts.out {
+        let path = dir.join("summary.json");
+        output::write_json(&path, &summary)?;
+        written.push(path);
+        let path = dir.join("trajectories.jsonl");
+        output::write_file(&path, |w| output::write_trajectories(w, &result.trajectories))?;
+        written.push(path);
+        let title = format!(
+            "{}: {} ({}), {} robots, seed {}: {} rounds, {:.1} s, {}/{} targets",
+            scenario.name,
+            result.algorithm.name(),
+            result.algorithm.paper_label(),
+            result.robots,
+            result.seed,
+            result.rounds,
+            result.search_time_s,
+            result.targets_found,
+            result.targets_total
+        );
+        let path = dir.join("routes.svg");
+        output::write_text(&path, &routes::routes_svg(&world, &result.trajectories, &title))?;
+        written.push(path);
+    }
+
+    if opts.json {
+        return Ok(format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")));
+    }
+    let mut text = format!(
+        "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}\n",
+        scenario.name,
+        scenario.grid.name(),
+        result.algorithm.name(),
+        result.algorithm.paper_label(),
+        result.robots,
+        result.seed,
+        result.situation
+    );
+    text += &format!(
+        "{} after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; coverage {}\n",
+        if result.complete { "complete" } else { "INCOMPLETE (round limit)" },
+        result.rounds,
+        result.search_time_s,
+        result.targets_found,
+        result.targets_total,
+        result.collisions,
+        result.coverage.map(|c| format!("{:.4}", c)).unwrap_or_else(|| "not measured".into())
+    );
+    for p in written {
+        text += &format!("wrote {}\n", p.display());
+    }
+    Ok(text)
+}

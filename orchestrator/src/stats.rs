@@ -1,0 +1,134 @@
+//! Per-cell statistics of a sweep: one cell is one (algorithm, robot count)
+//! with its Monte Carlo runs.
+
+use gridswarm::policy::Policy;
+use serde::Serialize;
+
+/// What the sweep keeps of one run: enough for the statistics, small enough
+/// to hold every run of a large sweep in memory.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RunRecord {
+    pub seed: u64,
+    pub search_time_s: f64,
+    pub rounds: u32,
+    pub collisions: u32,
+    pub targets_found: usize,
+    pub complete: bool,
+}
+
+/// Statistics of one (algorithm, robot count) cell. Times, rounds and
+/// collisions are over the completed runs only: an incomplete run stopped at
+/// the round limit, and its time would measure the limit, not the search.
+/// `None` where there are too few completed runs to say.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CellStats {
+    pub algorithm: Policy,
+    pub robots: usize,
+    pub runs: usize,
+    pub completed_runs: usize,
+    pub mean_search_time_s: Option<f64>,
+    /// Sample standard deviation (n - 1).
+    pub std_search_time_s: Option<f64>,
+    /// Half-width of the normal 95% confidence interval of the mean: 1.96 std / sqrt(n).
+    pub ci95_s: Option<f64>,
+    pub mean_rounds: Option<f64>,
+    pub mean_collisions: Option<f64>,
+    pub median_search_time_s: Option<f64>,
+    /// Mean over all runs, complete or not.
+    pub mean_targets_found: f64,
+}
+
+pub fn mean(xs: &[f64]) -> Option<f64> {
+    (!xs.is_empty()).then(|| xs.iter().sum::<f64>() / xs.len() as f64)
+}
+
+/// Sample standard deviation; needs two values.
+pub fn sample_std(xs: &[f64]) -> Option<f64> {
+    if xs.len() < 2 {
+        return None;
+    }
+    let m = mean(xs)?;
+    let ss: f64 = xs.iter().map(|x| (x - m) * (x - m)).sum();
+    Some((ss / (xs.len() - 1) as f64).sqrt())
+}
+
+pub fn median(xs: &[f64]) -> Option<f64> {
+    if xs.is_empty() {
+        return None;
+    }
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    Some(if n % 2 == 1 { v[n / 2] } else { (v[n / 2 - 1] + v[n / 2]) / 2.0 })
+}
+
+impl CellStats {
+    /// Statistics of `records`, in the order given (sums are order-dependent
+    /// in floating point; the sweep always passes runs in run order).
+    pub fn of(algorithm: Policy, robots: usize, records: &[RunRecord]) -> Self {
+        let done: Vec<&RunRecord> = records.iter().filter(|r| r.complete).collect();
+        let times: Vec<f64> = done.iter().map(|r| r.search_time_s).collect();
+        let rounds: Vec<f64> = done.iter().map(|r| f64::from(r.rounds)).collect();
+        let collisions: Vec<f64> = done.iter().map(|r| f64::from(r.collisions)).collect();
+        let std = sample_std(&times);
+        let found: Vec<f64> = records.iter().map(|r| r.targets_found as f64).collect();
+        CellStats {
+            algorithm,
+            robots,
+            runs: records.len(),
+            completed_runs: done.len(),
+            mean_search_time_s: mean(&times),
+            std_search_time_s: std,
+            ci95_s: std.map(|s| 1.96 * s / (times.len() as f64).sqrt()),
+            mean_rounds: mean(&rounds),
+            mean_collisions: mean(&collisions),
+            median_search_time_s: median(&times),
+            mean_targets_found: mean(&found).unwrap_or(0.0),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rec(t: f64, complete: bool) -> RunRecord {
+        RunRecord { seed: 0, search_time_s: t, rounds: t as u32, collisions: 1, targets_found: 9, complete }
+    }
+
+    #[test]
+    fn known_values() {
+        let rs = [
+            rec(2.0, true),
+            rec(4.0, true),
+            rec(4.0, true),
+            rec(4.0, true),
+            rec(5.0, true),
+            rec(5.0, true),
+            rec(7.0, true),
+            rec(9.0, true),
+            rec(1e9, false),
+        ];
+        let c = CellStats::of(Policy::Ru, 3, &rs);
+        assert_eq!(c.runs, 9);
+        assert_eq!(c.completed_runs, 8);
+        assert_eq!(c.mean_search_time_s, Some(5.0));
+        // Sum of squares 32, n - 1 = 7.
+        let std = (32.0f64 / 7.0).sqrt();
+        assert!((c.std_search_time_s.unwrap() - std).abs() < 1e-12);
+        assert!((c.ci95_s.unwrap() - 1.96 * std / 8f64.sqrt()).abs() < 1e-12);
+        assert_eq!(c.median_search_time_s, Some(4.5));
+        assert_eq!(c.mean_rounds, Some(5.0));
+    }
+
+    #[test]
+    fn too_few_runs() {
+        let c = CellStats::of(Policy::Lfp, 1, &[rec(3.0, true)]);
+        assert_eq!(c.mean_search_time_s, Some(3.0));
+        assert_eq!(c.std_search_time_s, None);
+        assert_eq!(c.ci95_s, None);
+        let none = CellStats::of(Policy::Lfp, 1, &[rec(3.0, false)]);
+        assert_eq!(none.completed_runs, 0);
+        assert_eq!(none.mean_search_time_s, None);
+    }
+}
