@@ -33,6 +33,8 @@ pub const DEFAULT_ALGORITHMS: &str = "lfp,ru,sequential,repulsive";
 pub const DEFAULT_ROBOTS: &str = "1-13";
 pub const DEFAULT_RUNS: u32 = 500;
 pub const DEFAULT_OUT: &str = "experiment-out";
+/// A run not stopped after this many rounds ends incomplete.
+pub const DEFAULT_MAX_ROUNDS: u32 = 100_000;
 
 #[derive(Clone, Debug)]
 pub struct ExperimentOptions {
@@ -53,6 +55,8 @@ pub struct Sweep {
     pub cells: Vec<CellStats>,
     pub claims: Vec<ClaimResult>,
     pub wall_time_s: f64,
+    /// Rounds times robots, summed over every run: the engine's unit of work.
+    pub robot_rounds: u64,
 }
 
 /// Whether to draw a progress bar: only for a person watching a terminal.
@@ -90,6 +94,11 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
 
     let cells: Vec<CellStats> =
         plan.cells().zip(records.chunks(plan.runs)).map(|((p, r), c)| CellStats::of(p, r, c)).collect();
+    let robot_rounds = plan
+        .cells()
+        .zip(records.chunks(plan.runs))
+        .map(|((_, robots), c)| c.iter().map(|x| x.rounds as u64 * robots as u64).sum::<u64>())
+        .sum();
     let claims = claims::evaluate(&cells);
     let claims_text = incomplete_note(&cells, opts.max_rounds) + &claims::render(&claims);
     let setup = format!(
@@ -142,7 +151,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         rayon::current_num_threads(),
         out.display()
     );
-    Ok((Sweep { cells, claims, wall_time_s }, text))
+    Ok((Sweep { cells, claims, wall_time_s, robot_rounds }, text))
 }
 
 /// Start vertices for every robot count, placed before any run: a count the

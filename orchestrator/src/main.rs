@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
-use gridswarm_orchestrator::experiment::{
+use gridswarm_orchestrator::experiment::{DEFAULT_MAX_ROUNDS, 
     self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
 };
 use gridswarm_orchestrator::grids::{self, GridsOptions};
@@ -20,7 +20,6 @@ use gridswarm_orchestrator::robots::{RobotCounts, MAX_ROBOTS};
 use gridswarm_orchestrator::simulate::{self, SimulateOptions};
 use gridswarm_orchestrator::{check, Error};
 
-const DEFAULT_MAX_ROUNDS: u32 = 100_000;
 
 #[derive(Parser, Debug)]
 #[command(name = "gridswarm", version, about = "Decentralized multi-robot search on a grid (Yang, CCC 2017)")]
