@@ -21,3 +21,4 @@ pub mod rng;
 pub mod robot;
 pub mod referee;
 pub mod protocol;
+pub mod assumptions;

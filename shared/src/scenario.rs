@@ -1,11 +1,58 @@
 //! Scenario files (TOML) and the built-in scenarios.
 //!
-//! HELPER-OWNED: the parser, errors and built-ins are being written; the
-//! public shape below is the contract the rest of the code uses.
+//! A scenario is everything a run needs besides the algorithm and the seed:
+//! the area, the obstacles, the targets, where the robots start, and the
+//! parameters. The format, every key optional unless marked:
+//!
+//! ```toml
+//! name = "paper"            # default: the file name without extension
+//! robots = 3                # default robot count, >= 1 (default 3)
+//! situation = 1             # 1: |T| known (rule 3), 2: unknown (rule 4)
+//! grid = "triangular"       # triangular | square | hexagonal
+//! targets = [[2, 2], [10, 2]]   # points of Ad; a top-level key, so before any [table]
+//!
+//! [params]                  # a, r_rob, r_safe default 1.0 / 0.25 / 0.30; r_so, r_st,
+//! a = 1.0                   # r_c default to the equality case of their assumption
+//! r_safe = 0.30             # (Params::derived); t_rot, t_trans, t_choice in seconds
+//!
+//! [area]                    # required: a simple polygon, corners in either order
+//! polygon = [[0, 0], [20, 0], [20, 16], [0, 16]]
+//!
+//! [[obstacles]]             # any number; each exactly one of polygon, circle, rect;
+//! polygon = [[3, 3], [6, 3], [6, 5]]   # inside the area, clear of its boundary,
+//! [[obstacles]]                        # not touching one another
+//! circle = { center = [10, 8], radius = 1.5 }
+//! [[obstacles]]
+//! rect = { min = [14, 2], max = [16, 5] }
+//!
+//! [starts]                  # default: border from the area's first corner
+//! border = { from = [0, 0] }           # neighbouring vertices along the border
+//! # points = [[1, 1], [2, 1]]          # or: one point per robot, snapped to a vertex
+//!
+//! [lfp]                     # optional constants of the LFP baseline (LfpParams)
+//! beta = 1.5
+//! ```
+//!
+//! Errors are one line, `file:line:col: field.path: what is wrong`, for
+//! syntax, unknown keys and wrong types (from toml) as for meaning (from
+//! here): a degenerate or self-crossing polygon, an obstacle overlapping
+//! another or leaving the area, a non-positive length, `r_safe <= r_rob`, a
+//! target outside `Ad`, an inaccessible or shared start vertex, a situation
+//! other than 1 or 2, zero robots. The assumptions of the paper are *not*
+//! enforced: a scenario that breaks them still runs, and
+//! [`crate::assumptions::check`] says which fail.
+
+mod gaps;
+mod locate;
+mod raw;
+mod starts;
+
+pub(crate) use gaps::{boundary_gap, self_passages, shape_gap, Gap};
 
 use crate::geometry::{Point, Polygon, Shape};
 use crate::grid::VertexId;
 use crate::lattice::LatticeKind;
+use crate::lfp::LfpParams;
 use crate::params::{Params, Situation};
 use crate::world::World;
 
@@ -32,6 +79,68 @@ pub struct Scenario {
     pub params: Params,
     pub grid: LatticeKind,
     pub situation: Situation,
+    /// Constants of the LFP baseline, from the optional `[lfp]` table.
+    pub lfp: LfpParams,
+}
+
+/// Why a scenario could not be read or placed, as one line naming the file,
+/// the position when known, and the field.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{}", self.one_line())]
+pub struct ScenarioError {
+    /// The file name or path (or built-in name) the scenario came from.
+    pub file: String,
+    /// 1-based line and column, when the error has a place in the text.
+    pub at: Option<(usize, usize)>,
+    /// Dotted path of the field, e.g. `obstacles[1].circle.radius`; empty
+    /// when the error is about no field (a syntax error, a missing file).
+    pub field: String,
+    pub message: String,
+}
+
+impl ScenarioError {
+    pub(crate) fn new(
+        file: &str,
+        at: Option<(usize, usize)>,
+        field: impl Into<String>,
+        message: impl AsRef<str>,
+    ) -> Self {
+        // toml's messages may span lines; the error must stay one line.
+        let message = message.as_ref().trim().replace('\n', "; ");
+        ScenarioError { file: file.to_string(), at, field: field.into(), message }
+    }
+
+    /// The line of the error, when known.
+    pub fn line(&self) -> Option<usize> {
+        self.at.map(|(l, _)| l)
+    }
+
+    fn one_line(&self) -> String {
+        let mut s = self.file.clone();
+        if let Some((line, col)) = self.at {
+            s.push_str(&format!(":{line}:{col}"));
+        }
+        if !self.field.is_empty() {
+            s.push_str(": ");
+            s.push_str(&self.field);
+        }
+        s.push_str(": ");
+        s.push_str(&self.message);
+        s
+    }
+}
+
+/// Names of the built-in scenarios, the default first.
+pub const BUILTIN: &[&str] = &["paper", "open", "cave", "large"];
+
+fn builtin_text(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "paper" => include_str!("../scenarios/paper.toml"),
+        "open" => include_str!("../scenarios/open.toml"),
+        "cave" => include_str!("../scenarios/cave.toml"),
+        "large" => include_str!("../scenarios/large.toml"),
+        _ => return None,
+    })
 }
 
 impl Scenario {
@@ -39,9 +148,60 @@ impl Scenario {
     pub fn world(&self) -> World {
         World::new(self.area.clone(), self.obstacles.clone(), self.targets.clone(), self.params, self.grid)
     }
-}
 
-#[allow(unused)]
-fn _contract(_: &World, _: usize) -> Option<Vec<VertexId>> {
-    None
+    /// The scenario used when none is named.
+    pub fn default_name() -> &'static str {
+        BUILTIN[0]
+    }
+
+    /// Parses a scenario file; `source` names it in error messages.
+    pub fn parse(text: &str, source: &str) -> Result<Scenario, ScenarioError> {
+        // The spanned tree only locates errors; if even it fails the text is
+        // not TOML and the typed parse below reports the syntax error.
+        let tree = toml::from_str::<locate::Node>(text).ok();
+        let ctx = raw::Ctx { text, file: source, tree };
+        let raw: raw::RawScenario = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
+        raw.into_scenario(&ctx)
+    }
+
+    /// A built-in scenario by name (see [`BUILTIN`]).
+    pub fn builtin(name: &str) -> Option<Scenario> {
+        let text = builtin_text(name)?;
+        // The built-ins are tested to parse; a failure here is a bug in them.
+        Some(Scenario::parse(text, &format!("{name}.toml")).unwrap_or_else(|e| panic!("built-in scenario: {e}")))
+    }
+
+    /// A built-in scenario by name, else a scenario file by path.
+    pub fn load(name_or_path: &str) -> Result<Scenario, ScenarioError> {
+        if let Some(s) = Scenario::builtin(name_or_path) {
+            return Ok(s);
+        }
+        let text = std::fs::read_to_string(name_or_path).map_err(|e| {
+            ScenarioError::new(
+                name_or_path,
+                None,
+                "",
+                format!(
+                    "cannot read scenario file: {e} (not a built-in scenario either; those are: {})",
+                    BUILTIN.join(", ")
+                ),
+            )
+        })?;
+        Scenario::parse(&text, name_or_path)
+    }
+
+    /// Start vertices for `robots` robots on `world` (which must be this
+    /// scenario's world), robot `k` at element `k`: the first `robots` points
+    /// snapped to vertices, or a chain of neighbouring vertices along the
+    /// border (see [`Starts::Border`]). Distinct and accessible, or an error.
+    pub fn start_vertices(&self, world: &World, robots: usize) -> Result<Vec<VertexId>, ScenarioError> {
+        let file = self.name.clone();
+        if robots == 0 {
+            return Err(ScenarioError::new(&file, None, "robots", "must be >= 1, got 0"));
+        }
+        match &self.starts {
+            Starts::Border { from } => starts::border(world, *from, robots, &file),
+            Starts::Points(pts) => starts::points(world, pts, robots, &file),
+        }
+    }
 }

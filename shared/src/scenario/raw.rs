@@ -1,0 +1,377 @@
+//! The scenario file as written (serde types that mirror the TOML), and its
+//! checked conversion into a [`Scenario`]. Every rejection names the field it
+//! is about; [`Ctx`] turns that field's path into a file position.
+
+use serde::Deserialize;
+
+use super::locate::{line_col, Node};
+use super::{gaps, Scenario, ScenarioError, Starts};
+use crate::geometry::{Circle, Point, Polygon, Shape};
+use crate::lattice::{Lattice, LatticeKind};
+use crate::lfp::LfpParams;
+use crate::params::{Params, Situation};
+
+type Xy = [f64; 2];
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawScenario {
+    name: Option<String>,
+    robots: Option<usize>,
+    situation: Option<u8>,
+    grid: Option<LatticeKind>,
+    #[serde(default)]
+    targets: Vec<Xy>,
+    #[serde(default)]
+    params: RawParams,
+    area: RawArea,
+    #[serde(default)]
+    obstacles: Vec<RawObstacle>,
+    starts: Option<RawStarts>,
+    #[serde(default)]
+    lfp: LfpParams,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawParams {
+    a: Option<f64>,
+    r_rob: Option<f64>,
+    r_safe: Option<f64>,
+    r_so: Option<f64>,
+    r_st: Option<f64>,
+    r_c: Option<f64>,
+    t_rot: Option<f64>,
+    t_trans: Option<f64>,
+    t_choice: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawArea {
+    polygon: Vec<Xy>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawObstacle {
+    polygon: Option<Vec<Xy>>,
+    circle: Option<RawCircle>,
+    rect: Option<RawRect>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCircle {
+    center: Xy,
+    radius: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRect {
+    min: Xy,
+    max: Xy,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStarts {
+    border: Option<RawBorder>,
+    points: Option<Vec<Xy>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBorder {
+    from: Xy,
+}
+
+/// The text being parsed, for turning field paths into positions.
+pub(crate) struct Ctx<'a> {
+    pub text: &'a str,
+    pub file: &'a str,
+    pub tree: Option<Node>,
+}
+
+impl Ctx<'_> {
+    pub fn err(&self, field: impl Into<String>, message: impl AsRef<str>) -> ScenarioError {
+        let field = field.into();
+        let at = self.tree.as_ref().and_then(|t| t.span_of(&field)).map(|s| line_col(self.text, s.start));
+        ScenarioError::new(self.file, at, field, message)
+    }
+
+    /// A toml error (syntax, unknown field, wrong type) located by its span.
+    pub fn toml_error(&self, e: &toml::de::Error) -> ScenarioError {
+        let span = e.span();
+        let at = span.as_ref().map(|s| line_col(self.text, s.start));
+        let missing = e.message().strip_prefix("missing field `").and_then(|m| m.split('`').next());
+        let field = match (&self.tree, &span, missing) {
+            // Reported at the table that lacks it; name the field itself.
+            (Some(tree), Some(s), Some(name)) => match tree.path_with_span(s) {
+                Some(table) if !table.is_empty() => format!("{table}.{name}"),
+                _ => name.to_string(),
+            },
+            (Some(tree), Some(s), None) => tree.path_at(s.start).unwrap_or_default(),
+            _ => String::new(),
+        };
+        ScenarioError::new(self.file, at, field, e.message())
+    }
+}
+
+fn fmt_xy(p: Point) -> String {
+    format!("({}, {})", p.x, p.y)
+}
+
+fn point(ctx: &Ctx, field: &str, xy: Xy) -> Result<Point, ScenarioError> {
+    if !xy.iter().all(|v| v.is_finite()) {
+        return Err(ctx.err(field, format!("coordinates must be finite numbers, got [{}, {}]", xy[0], xy[1])));
+    }
+    Ok(Point::new(xy[0], xy[1]))
+}
+
+/// A polygon the geometry code can trust: three or more distinct corners,
+/// no edge folding back on the previous one, simple, with a non-zero area.
+fn polygon(ctx: &Ctx, field: &str, raw: &[Xy]) -> Result<Polygon, ScenarioError> {
+    if raw.len() < 3 {
+        return Err(ctx.err(field, format!("a polygon needs at least 3 corners, got {}", raw.len())));
+    }
+    let pts = raw
+        .iter()
+        .enumerate()
+        .map(|(k, &xy)| point(ctx, &format!("{field}[{k}]"), xy))
+        .collect::<Result<Vec<_>, _>>()?;
+    let n = pts.len();
+    for k in 0..n {
+        let (prev, p, next) = (pts[(k + n - 1) % n], pts[k], pts[(k + 1) % n]);
+        if p == next {
+            return Err(ctx.err(format!("{field}[{}]", (k + 1) % n), format!("repeats corner {k} {}", fmt_xy(p))));
+        }
+        let (u, v) = (p - prev, next - p);
+        if u.x * v.y - u.y * v.x == 0.0 && u.dot(&v) < 0.0 {
+            return Err(ctx.err(format!("{field}[{k}]"), format!("the boundary folds back on itself at {}", fmt_xy(p))));
+        }
+    }
+    let poly = Polygon::new(pts);
+    if !poly.is_simple() {
+        return Err(ctx.err(field, "the polygon is not simple: two of its edges cross or touch"));
+    }
+    if poly.signed_area().abs() < 1e-9 {
+        return Err(ctx.err(field, "the polygon has zero area"));
+    }
+    Ok(poly)
+}
+
+fn positive(ctx: &Ctx, field: &str, v: f64) -> Result<f64, ScenarioError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(ctx.err(field, format!("must be > 0, got {v}")))
+    }
+}
+
+fn non_negative(ctx: &Ctx, field: &str, v: f64) -> Result<f64, ScenarioError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(ctx.err(field, format!("must be >= 0, got {v}")))
+    }
+}
+
+impl RawParams {
+    /// Ranges not given take the equality case of their assumption
+    /// ([`Params::derived`]); the assumptions themselves are not enforced
+    /// here, the checker reports them.
+    fn into_params(self, ctx: &Ctx) -> Result<Params, ScenarioError> {
+        let d = Params::default();
+        let a = positive(ctx, "params.a", self.a.unwrap_or(d.a))?;
+        let r_rob = positive(ctx, "params.r_rob", self.r_rob.unwrap_or(d.r_rob))?;
+        let r_safe = positive(ctx, "params.r_safe", self.r_safe.unwrap_or(d.r_safe))?;
+        if r_safe <= r_rob {
+            return Err(
+                ctx.err("params.r_safe", format!("must be > r_rob = {r_rob} (it includes every error), got {r_safe}"))
+            );
+        }
+        let mut p = Params::derived(a, r_rob, r_safe);
+        let opt = |field: &str, v: Option<f64>, check: fn(&Ctx, &str, f64) -> Result<f64, ScenarioError>, dflt: f64| {
+            v.map_or(Ok(dflt), |v| check(ctx, field, v))
+        };
+        p.r_so = opt("params.r_so", self.r_so, positive, p.r_so)?;
+        p.r_st = opt("params.r_st", self.r_st, positive, p.r_st)?;
+        p.r_c = opt("params.r_c", self.r_c, positive, p.r_c)?;
+        p.t_rot = opt("params.t_rot", self.t_rot, non_negative, p.t_rot)?;
+        p.t_trans = opt("params.t_trans", self.t_trans, non_negative, p.t_trans)?;
+        p.t_choice = opt("params.t_choice", self.t_choice, non_negative, p.t_choice)?;
+        Ok(p)
+    }
+}
+
+impl RawObstacle {
+    fn into_shape(self, ctx: &Ctx, field: &str) -> Result<Shape, ScenarioError> {
+        match (self.polygon, self.circle, self.rect) {
+            (Some(p), None, None) => Ok(Shape::Polygon(polygon(ctx, &format!("{field}.polygon"), &p)?)),
+            (None, Some(c), None) => {
+                let center = point(ctx, &format!("{field}.circle.center"), c.center)?;
+                let radius = positive(ctx, &format!("{field}.circle.radius"), c.radius)?;
+                Ok(Shape::Circle(Circle { center, radius }))
+            }
+            (None, None, Some(r)) => {
+                let lo = point(ctx, &format!("{field}.rect.min"), r.min)?;
+                let hi = point(ctx, &format!("{field}.rect.max"), r.max)?;
+                if !(hi.x > lo.x && hi.y > lo.y) {
+                    return Err(ctx.err(
+                        format!("{field}.rect.max"),
+                        format!("must exceed min {} in x and y, got {}", fmt_xy(lo), fmt_xy(hi)),
+                    ));
+                }
+                let pts = vec![lo, Point::new(hi.x, lo.y), hi, Point::new(lo.x, hi.y)];
+                Ok(Shape::Polygon(Polygon::new(pts)))
+            }
+            _ => Err(ctx.err(field, "give exactly one of `polygon`, `circle` or `rect`")),
+        }
+    }
+}
+
+fn check_lfp(ctx: &Ctx, l: &LfpParams) -> Result<(), ScenarioError> {
+    // Mantegna's method needs 0 < beta < 2 (its sigma vanishes at 2).
+    if !(l.beta > 0.0 && l.beta < 2.0) {
+        return Err(ctx.err("lfp.beta", format!("must be in (0, 2), got {}", l.beta)));
+    }
+    positive(ctx, "lfp.scale", l.scale)?;
+    if !(l.max_step >= 1.0 && l.max_step.is_finite()) {
+        return Err(ctx.err(
+            "lfp.max_step",
+            format!("must be >= 1 (steps are clamped to [a, max_step * a]), got {}", l.max_step),
+        ));
+    }
+    non_negative(ctx, "lfp.turn_sigma", l.turn_sigma)?;
+    non_negative(ctx, "lfp.k_robot", l.k_robot)?;
+    non_negative(ctx, "lfp.k_obstacle", l.k_obstacle)?;
+    Ok(())
+}
+
+/// The project's default robot count: the three robots of Fig. 5.
+const DEFAULT_ROBOTS: usize = 3;
+
+impl RawScenario {
+    pub fn into_scenario(self, ctx: &Ctx) -> Result<Scenario, ScenarioError> {
+        let robots = self.robots.unwrap_or(DEFAULT_ROBOTS);
+        if robots == 0 {
+            return Err(ctx.err("robots", "must be >= 1, got 0"));
+        }
+        let situation = self.situation.unwrap_or(1);
+        let situation = Situation::from_number(situation).ok_or_else(|| {
+            ctx.err("situation", format!("must be 1 (|T| known) or 2 (|T| unknown), got {situation}"))
+        })?;
+        let grid = self.grid.unwrap_or(LatticeKind::Triangular);
+        let params = self.params.into_params(ctx)?;
+        check_lfp(ctx, &self.lfp)?;
+
+        let area = polygon(ctx, "area.polygon", &self.area.polygon)?;
+        let mut obstacles: Vec<Shape> = Vec::with_capacity(self.obstacles.len());
+        for (k, raw) in self.obstacles.into_iter().enumerate() {
+            let field = format!("obstacles[{k}]");
+            let shape = raw.into_shape(ctx, &field)?;
+            if !gaps::strictly_inside(&area, &shape) {
+                let g = gaps::boundary_gap(&area, &shape);
+                let why = if g.width == 0.0 {
+                    format!("meets the area boundary near {}", fmt_xy(g.a))
+                } else {
+                    "lies outside the area".to_string()
+                };
+                return Err(ctx.err(field, format!("must lie inside the area, clear of its boundary, but {why}")));
+            }
+            for (j, other) in obstacles.iter().enumerate() {
+                let g = gaps::shape_gap(other, &shape);
+                if g.width == 0.0 {
+                    return Err(ctx.err(field, format!("overlaps or touches obstacles[{j}] near {}", fmt_xy(g.a))));
+                }
+            }
+            obstacles.push(shape);
+        }
+
+        let mut targets = Vec::with_capacity(self.targets.len());
+        for (k, &xy) in self.targets.iter().enumerate() {
+            let field = format!("targets[{k}]");
+            let p = point(ctx, &field, xy)?;
+            if !area.contains(p) {
+                return Err(ctx.err(field, format!("{} is outside the area, so not in Ad", fmt_xy(p))));
+            }
+            if let Some(j) = obstacles.iter().position(|o| o.contains(p)) {
+                return Err(ctx.err(field, format!("{} is inside obstacles[{j}], so not in Ad", fmt_xy(p))));
+            }
+            targets.push(p);
+        }
+
+        let starts = match self.starts {
+            None => Starts::Border { from: area.points[0] },
+            Some(RawStarts { border: Some(b), points: None }) => {
+                Starts::Border { from: point(ctx, "starts.border.from", b.from)? }
+            }
+            Some(RawStarts { border: None, points: Some(pts) }) => {
+                let pts = start_points(ctx, &pts, robots, &area, &obstacles, &params, grid)?;
+                Starts::Points(pts)
+            }
+            Some(_) => return Err(ctx.err("starts", "give exactly one of `border` or `points`")),
+        };
+
+        let name = self.name.unwrap_or_else(|| file_stem(ctx.file));
+        Ok(Scenario { name, area, obstacles, targets, starts, robots, params, grid, situation, lfp: self.lfp })
+    }
+}
+
+/// Start points, each snapped to an accessible vertex of its own. The test
+/// repeats the world's clearance rule for one vertex rather than building the
+/// whole world.
+fn start_points(
+    ctx: &Ctx,
+    raw: &[Xy],
+    robots: usize,
+    area: &Polygon,
+    obstacles: &[Shape],
+    params: &Params,
+    grid: LatticeKind,
+) -> Result<Vec<Point>, ScenarioError> {
+    if raw.len() < robots {
+        return Err(ctx.err(
+            "starts.points",
+            format!("{} start points for robots = {robots}: give at least one point per robot", raw.len()),
+        ));
+    }
+    let lattice = Lattice::new(grid, params.a);
+    let mut seen = Vec::with_capacity(raw.len());
+    let mut out = Vec::with_capacity(raw.len());
+    for (k, &xy) in raw.iter().enumerate() {
+        let field = format!("starts.points[{k}]");
+        let p = point(ctx, &field, xy)?;
+        let c = lattice.nearest(p);
+        let q = lattice.position(c);
+        let clear = area.contains(q)
+            && area.boundary_distance(q) >= params.r_safe
+            && obstacles.iter().all(|o| o.distance(q) >= params.r_safe);
+        if !clear {
+            return Err(ctx.err(
+                field,
+                format!(
+                    "the nearest vertex {} to {} is not accessible (in Ad, r_safe = {} clear)",
+                    fmt_xy(q),
+                    fmt_xy(p),
+                    params.r_safe
+                ),
+            ));
+        }
+        if let Some(j) = seen.iter().position(|&d| d == c) {
+            return Err(ctx.err(
+                field,
+                format!("snaps to vertex {} like starts.points[{j}]: two robots on one vertex", fmt_xy(q)),
+            ));
+        }
+        seen.push(c);
+        out.push(p);
+    }
+    Ok(out)
+}
+
+fn file_stem(file: &str) -> String {
+    std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or(file).to_string()
+}
