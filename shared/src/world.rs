@@ -29,10 +29,28 @@ impl World {
     pub fn new(area: Polygon, obstacles: Vec<Shape>, targets: Vec<Point>, params: Params, kind: LatticeKind) -> Self {
         let (lo, hi) = area.bounding_box();
         let grid = Grid::new(Lattice::new(kind, params.a), lo, hi);
+        // Bounding boxes grown by r_safe: a point or edge outside one cannot
+        // come within r_safe of that obstacle, which skips almost every test.
+        let boxes: Vec<(Point, Point)> = obstacles
+            .iter()
+            .map(|o| {
+                let (lo, hi) = o.bounding_box();
+                let m = params.r_safe;
+                (Point::new(lo.x - m, lo.y - m), Point::new(hi.x + m, hi.y + m))
+            })
+            .collect();
+        let near = |p: Point, q: Point| {
+            let (lo, hi) = (Point::new(p.x.min(q.x), p.y.min(q.y)), Point::new(p.x.max(q.x), p.y.max(q.y)));
+            boxes
+                .iter()
+                .enumerate()
+                .filter(move |(_, (a, b))| lo.x <= b.x && hi.x >= a.x && lo.y <= b.y && hi.y >= a.y)
+                .map(|(k, _)| k)
+        };
         let clear = |p: Point| {
             area.contains(p)
                 && area.boundary_distance(p) >= params.r_safe
-                && obstacles.iter().all(|o| o.distance(p) >= params.r_safe)
+                && near(p, p).all(|k| obstacles[k].distance(p) >= params.r_safe)
         };
         let accessible: Vec<bool> = (0..grid.len() as VertexId).map(|v| clear(grid.position(v))).collect();
         let open = (0..grid.len() as VertexId)
@@ -48,7 +66,7 @@ impl World {
                     }
                     let q = grid.position(n);
                     let ok = area.boundary_segment_distance(p, q) >= params.r_safe
-                        && obstacles.iter().all(|o| o.segment_distance(p, q) >= params.r_safe);
+                        && near(p, q).all(|k| obstacles[k].segment_distance(p, q) >= params.r_safe);
                     if ok {
                         mask |= 1 << d;
                     }
