@@ -28,11 +28,33 @@ pub fn run(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
 pub fn run_with_lfp(world: &World, starts: &[VertexId], cfg: &RunConfig, lfp: &LfpParams) -> RunResult {
     match cfg.policy {
         Policy::Lfp => lfp::run(world, starts, cfg, lfp),
-        _ => run_grid(world, starts, cfg),
+        _ => run_grid(world, starts, cfg, None),
     }
 }
 
-fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
+/// [`run_with_lfp`], also returning the simulated time at the end of every
+/// round (element `k` ends round `k`): a replay shows the clock round by
+/// round, which the run's total alone cannot give.
+pub fn run_with_round_times(
+    world: &World,
+    starts: &[VertexId],
+    cfg: &RunConfig,
+    lfp: &LfpParams,
+) -> (RunResult, Vec<f64>) {
+    let mut times = Vec::new();
+    let result = match cfg.policy {
+        Policy::Lfp => lfp::run_timed(world, starts, cfg, lfp, &mut times),
+        _ => run_grid(world, starts, cfg, Some(&mut times)),
+    };
+    (result, times)
+}
+
+fn run_grid(
+    world: &World,
+    starts: &[VertexId],
+    cfg: &RunConfig,
+    mut round_end_times: Option<&mut Vec<f64>>,
+) -> RunResult {
     let n = starts.len();
     let params = world.params;
     let mut referee = Referee::new(world, starts);
@@ -119,6 +141,9 @@ fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
         let report = referee.execute(&next);
         collisions += report.collisions;
         time += round_time(&params, longest, &report);
+        if let Some(t) = round_end_times.as_deref_mut() {
+            t.push(time);
+        }
         for k in 0..n {
             robots[k].moved(referee.position(k));
         }

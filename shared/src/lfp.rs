@@ -232,6 +232,18 @@ pub fn run(world: &World, starts: &[VertexId], cfg: &RunConfig, lfp: &LfpParams)
     run_prepared(&LfpWorld::new(world), starts, cfg, lfp)
 }
 
+/// [`run`], also pushing onto `round_end_times` the simulated time at the
+/// end of every round (for replays, which show the clock round by round).
+pub fn run_timed(
+    world: &World,
+    starts: &[VertexId],
+    cfg: &RunConfig,
+    lfp: &LfpParams,
+    round_end_times: &mut Vec<f64>,
+) -> RunResult {
+    run_inner(&LfpWorld::new(world), starts, cfg, lfp, Some(round_end_times))
+}
+
 struct Robot {
     /// The flight's heading, which the field bends but does not change.
     heading: Vector,
@@ -274,6 +286,16 @@ fn new_flight(r: &mut Robot, f_obs: Vector, levy: &Mantegna, lfp: &LfpParams, a:
 
 /// [`run`] on a prepared world.
 pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &LfpParams) -> RunResult {
+    run_inner(lw, starts, cfg, lfp, None)
+}
+
+fn run_inner(
+    lw: &LfpWorld,
+    starts: &[VertexId],
+    cfg: &RunConfig,
+    lfp: &LfpParams,
+    mut round_end_times: Option<&mut Vec<f64>>,
+) -> RunResult {
     let world = lw.world;
     let prm = &world.params;
     let n = starts.len();
@@ -442,6 +464,9 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
             + prm.t_trans
             + if rotated { prm.t_rot } else { 0.0 }
             + round_collisions as f64 * prm.move_time();
+        if let Some(t) = round_end_times.as_deref_mut() {
+            t.push(time);
+        }
         complete = done(&missing, uncovered);
     }
 

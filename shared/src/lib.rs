@@ -22,3 +22,6 @@ pub mod robot;
 pub mod referee;
 pub mod protocol;
 pub mod assumptions;
+/// The distributed engine's shared pieces (iceoryx2 config, names, cleanup).
+#[cfg(feature = "ipc")]
+pub mod ipc;

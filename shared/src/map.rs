@@ -21,7 +21,11 @@ pub struct Map {
     /// Vertices known to be accessible: visited ones and the open ends of sensed edges.
     pub known: Bitset,
     /// Per vertex: bit `d` set when the edge in slot `d` was sensed traversable;
-    /// [`SENSED`] set once anyone sensed there.
+    /// [`SENSED`] set once anyone sensed there. (De)serialized as one byte
+    /// string: in postcard the same bytes as a sequence of `u8`, without
+    /// one call per vertex (maps of large scenarios are thousands of bytes
+    /// and every robot sends its map every round).
+    #[serde(with = "byte_string")]
     pub open: Vec<u8>,
     /// Target ids known found.
     pub targets: Bitset,
@@ -112,7 +116,13 @@ impl Map {
         if self.targets.words().len() != words(targets) {
             return Err(format!("map target set sized for another scenario (expected {targets} targets)"));
         }
-        let past = |b: &Bitset, n: usize| b.iter().any(|k| k >= n);
+        // Any bit at or past `n`, word by word (sizes were checked above).
+        let past = |b: &Bitset, n: usize| {
+            let w = b.words();
+            let (full, rem) = (n / 64, n % 64);
+            (rem > 0 && w.get(full).is_some_and(|&x| x >> rem != 0))
+                || w.iter().skip(full + usize::from(rem > 0)).any(|&x| x != 0)
+        };
         if past(&self.visited, vertices) || past(&self.known, vertices) || past(&self.targets, targets) {
             return Err("map sets a bit past the end".into());
         }
@@ -123,5 +133,85 @@ impl Map {
             return Err("map names a robot or vertex that does not exist".into());
         }
         Ok(())
+    }
+}
+
+/// Serde for a `Vec<u8>` as one byte string (`serialize_bytes`).
+mod byte_string {
+    use serde::de::{Deserializer, SeqAccess, Visitor};
+    use serde::Serializer;
+
+    pub fn serialize<S: Serializer>(v: &[u8], s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_bytes(v)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<u8>, D::Error> {
+        d.deserialize_byte_buf(Bytes)
+    }
+
+    struct Bytes;
+
+    impl<'de> Visitor<'de> for Bytes {
+        type Value = Vec<u8>;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a byte string")
+        }
+
+        fn visit_bytes<E>(self, v: &[u8]) -> Result<Vec<u8>, E> {
+            Ok(v.to_vec())
+        }
+
+        fn visit_byte_buf<E>(self, v: Vec<u8>) -> Result<Vec<u8>, E> {
+            Ok(v)
+        }
+
+        // Formats without byte strings (JSON) give a sequence.
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<u8>, A::Error> {
+            let mut v = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 20));
+            while let Some(b) = seq.next_element()? {
+                v.push(b);
+            }
+            Ok(v)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The same fields, with `open` as a plain sequence: the encoding before.
+    #[derive(Serialize)]
+    struct Plain<'a> {
+        visited: &'a Bitset,
+        known: &'a Bitset,
+        open: &'a Vec<u8>,
+        targets: &'a Bitset,
+        failed: &'a Vec<(RobotId, VertexId)>,
+    }
+
+    #[test]
+    fn open_masks_encode_as_before_and_round_trip() {
+        let mut m = Map::new(300, 9);
+        m.visited.set(3);
+        m.known.set(299);
+        m.open[7] = 0x81;
+        m.open[299] = 0xff;
+        m.targets.set(8);
+        m.add_failed(2, 50);
+        let plain = Plain { visited: &m.visited, known: &m.known, open: &m.open, targets: &m.targets, failed: &m.failed };
+        let bytes = postcard::to_allocvec(&m).unwrap();
+        assert_eq!(bytes, postcard::to_allocvec(&plain).unwrap());
+        assert_eq!(postcard::from_bytes::<Map>(&bytes).unwrap(), m);
+        assert_eq!(m.validate(300, 9, 3), Ok(()));
+        // A bit past the end of the grid, in the last word or beyond.
+        let mut bad = m.clone();
+        bad.visited.set(300);
+        assert!(bad.validate(300, 9, 3).is_err());
+        let mut bad = m.clone();
+        bad.known.set(319);
+        assert!(bad.validate(300, 9, 3).is_err());
+        assert!(m.validate(320, 9, 3).is_err(), "sized for another grid");
     }
 }

@@ -134,6 +134,23 @@ pub fn encode_from_world(m: &FromWorld) -> Vec<u8> {
 /// Decodes and validates what a robot sent to the world.
 pub fn decode_to_world(bytes: &[u8], limits: &Limits) -> Result<ToWorld, DecodeError> {
     let m: ToWorld = postcard::from_bytes(bytes).map_err(|e| DecodeError::Format(e.to_string()))?;
+    check_to_world(m, limits)
+}
+
+/// [`decode_to_world`] that also refuses bytes after the message. The
+/// world-server relays the bytes of a robot's `ToWorld::Radio(m)` unchanged
+/// as `FromWorld::Relay(m)` (both are variant 1 of their enum, so postcard
+/// encodes them alike; tested below): with this check what it relays is
+/// exactly one valid message.
+pub fn decode_to_world_exact(bytes: &[u8], limits: &Limits) -> Result<ToWorld, DecodeError> {
+    let (m, rest) = postcard::take_from_bytes::<ToWorld>(bytes).map_err(|e| DecodeError::Format(e.to_string()))?;
+    if !rest.is_empty() {
+        return Err(DecodeError::Format(format!("{} bytes after the message", rest.len())));
+    }
+    check_to_world(m, limits)
+}
+
+fn check_to_world(m: ToWorld, limits: &Limits) -> Result<ToWorld, DecodeError> {
     match &m {
         ToWorld::Hello { robot, .. } if (*robot as usize) >= limits.robots => {
             Err(DecodeError::Range(format!("robot {robot} not below {}", limits.robots)))
@@ -221,7 +238,32 @@ mod tests {
         assert!(decode_to_world(&encode_to_world(&bad), &LIMITS).is_err());
     }
 
+    #[test]
+    fn relayed_bytes_are_the_radio_bytes() {
+        for m in [
+            Message::Targets { round: 3, from: 1, targets: vec![0, 8] },
+            Message::Map { round: 4, from: 12, at: 99, map: a_map() },
+            Message::Choice { round: 5, from: 0, next: 7 },
+            Message::Stop { round: 6, from: 2 },
+        ] {
+            let radio = encode_to_world(&ToWorld::Radio(m.clone()));
+            assert_eq!(radio, encode_from_world(&FromWorld::Relay(m.clone())));
+            assert_eq!(decode_to_world_exact(&radio, &LIMITS), Ok(ToWorld::Radio(m)));
+            let mut long = radio.clone();
+            long.push(0);
+            assert!(matches!(decode_to_world_exact(&long, &LIMITS), Err(DecodeError::Format(_))));
+        }
+    }
+
     proptest! {
+        #[test]
+        fn arbitrary_exact_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
+            if let Ok(m) = decode_to_world_exact(&bytes, &LIMITS) {
+                // Exactly one message: it re-encodes to the same bytes.
+                prop_assert_eq!(encode_to_world(&m), bytes);
+            }
+        }
+
         #[test]
         fn arbitrary_world_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
             let _ = decode_to_world(&bytes, &LIMITS);

@@ -200,7 +200,39 @@ impl<'g> Robot<'g> {
         if !self.map.has_unvisited() {
             return Some(Stop::MapComplete);
         }
+        // Sec. 4.2: a failed robot blocks its vertex for good, so it can cut
+        // unvisited vertices off; those can never be visited and must not
+        // keep the search going. Only with failures, so a failure-free run
+        // decides exactly as before.
+        if !self.map.failed.is_empty() && !self.reachable_unvisited() {
+            return Some(Stop::MapComplete);
+        }
         None
+    }
+
+    /// Whether some unvisited vertex of the map is reachable from here over
+    /// known open edges without entering a failed robot's vertex.
+    fn reachable_unvisited(&self) -> bool {
+        let grid = self.grid;
+        let mut seen = vec![false; grid.len()];
+        for &(_, at) in &self.map.failed {
+            seen[at as usize] = true;
+        }
+        seen[self.pos as usize] = true;
+        let mut queue = vec![self.pos];
+        while let Some(v) = queue.pop() {
+            if !self.map.visited.get(v as usize) {
+                return true;
+            }
+            for (d, &w) in grid.neighbors(v)[..grid.degree()].iter().enumerate() {
+                if w == NONE || seen[w as usize] || !self.map.known.get(w as usize) || !self.map.edge_open(grid, v, d) {
+                    continue;
+                }
+                seen[w as usize] = true;
+                queue.push(w);
+            }
+        }
+        false
     }
 
     /// Sec. 4.2: robot `id`, standing on `at`, will never answer. It is no
@@ -425,5 +457,33 @@ impl<'g> Robot<'g> {
     /// Step 6 done: the world moved this robot to `to`.
     pub fn moved(&mut self, to: VertexId) {
         self.pos = to;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Point, Polygon};
+    use crate::lattice::{Coord, LatticeKind};
+    use crate::params::Params;
+    use crate::world::World;
+
+    #[test]
+    fn vertices_cut_off_by_failed_robots_do_not_keep_the_search_going() {
+        let area = Polygon::new(vec![Point::new(-5.0, -5.0), Point::new(5.0, -5.0), Point::new(5.0, 5.0), Point::new(-5.0, 5.0)]);
+        let w = World::new(area, vec![], vec![], Params::default(), LatticeKind::Triangular);
+        let g = &w.grid;
+        let v = g.id_of(Coord::new(0, 0)).unwrap();
+        let cfg = RobotConfig { id: 0, policy: Policy::Repulsive, situation: Situation::Two, targets_total: 0, r_safe: 0.3, seed: 1 };
+        let mut r = Robot::new(g, cfg, v);
+        // Only the edge in slot 0 is open: its far end is the one unvisited vertex.
+        r.sense(0, &Sensing { open: 1, occupied: 0, targets: &[], neighbours: &[] });
+        assert_eq!(r.stop_rule(), None);
+        // A failed robot elsewhere changes nothing.
+        r.declare_failed(4, g.neighbors(v)[3]);
+        assert_eq!(r.stop_rule(), None);
+        // One standing on that vertex blocks it for good: nothing is left.
+        r.declare_failed(5, g.neighbors(v)[0]);
+        assert_eq!(r.stop_rule(), Some(Stop::MapComplete));
     }
 }

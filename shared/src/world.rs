@@ -176,28 +176,40 @@ impl Raster {
         if self.count == 0 {
             return 1.0;
         }
-        let mut hit = vec![false; self.inside.len()];
-        let mut detected = 0usize;
-        for c in centres {
-            let x0 = (((c.x - r - self.origin.x) / self.h).floor().max(0.0)) as usize;
-            let y0 = (((c.y - r - self.origin.y) / self.h).floor().max(0.0)) as usize;
-            let x1 = (((c.x + r - self.origin.x) / self.h).ceil().max(0.0) as usize).min(self.nx);
-            let y1 = (((c.y + r - self.origin.y) / self.h).ceil().max(0.0) as usize).min(self.ny);
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    let k = y * self.nx + x;
-                    if !self.inside[k] || hit[k] {
-                        continue;
-                    }
-                    let p = Point::new(self.origin.x + (x as f64 + 0.5) * self.h, self.origin.y + (y as f64 + 0.5) * self.h);
-                    if (p - c).norm() <= r {
-                        hit[k] = true;
-                        detected += 1;
-                    }
+        let mut hit = self.unmarked();
+        let detected: usize = centres.into_iter().map(|c| self.mark(&mut hit, c, r)).sum();
+        detected as f64 / self.count as f64
+    }
+
+    /// A blank record for [`Raster::mark`]: no sample detected yet.
+    pub fn unmarked(&self) -> Vec<bool> {
+        vec![false; self.inside.len()]
+    }
+
+    /// Marks in `hit` (from [`Raster::unmarked`]) the samples of `Ad` within
+    /// `r` of `c`, returning how many were not marked before. The
+    /// incremental form of [`Raster::detected_fraction`], for the detected
+    /// fraction round by round.
+    pub fn mark(&self, hit: &mut [bool], c: Point, r: f64) -> usize {
+        let mut detected = 0;
+        let x0 = (((c.x - r - self.origin.x) / self.h).floor().max(0.0)) as usize;
+        let y0 = (((c.y - r - self.origin.y) / self.h).floor().max(0.0)) as usize;
+        let x1 = (((c.x + r - self.origin.x) / self.h).ceil().max(0.0) as usize).min(self.nx);
+        let y1 = (((c.y + r - self.origin.y) / self.h).ceil().max(0.0) as usize).min(self.ny);
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let k = y * self.nx + x;
+                if !self.inside[k] || hit[k] {
+                    continue;
+                }
+                let p = Point::new(self.origin.x + (x as f64 + 0.5) * self.h, self.origin.y + (y as f64 + 0.5) * self.h);
+                if (p - c).norm() <= r {
+                    hit[k] = true;
+                    detected += 1;
                 }
             }
         }
-        detected as f64 / self.count as f64
+        detected
     }
 }
 

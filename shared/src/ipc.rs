@@ -1,0 +1,738 @@
+//! What the distributed engine's three programs share (feature `ipc`):
+//! `world-server`, `robot-agent` and the orchestrator's `gridswarm run`.
+//!
+//! - the iceoryx2 [`Config`] of a run, built in code from the run's prefix
+//!   (never from a file: iceoryx2's global config silently reads
+//!   `config/iceoryx2.toml`, `~/.config/iceoryx2/` and `/etc/iceoryx2/`);
+//! - the service and node names, and the limits every service is created with;
+//! - liveness of a node or a process;
+//! - [`cleanup_run`], which removes every file of a run from `/dev/shm` and
+//!   iceoryx2's root directory, and [`sweep_stale`] for runs whose owner died;
+//! - the run report the world-server writes for the orchestrator.
+//!
+//! Topology (one run, `N` robots; the world creates every service):
+//!
+//! | service | kind | writer | reader |
+//! |---|---|---|---|
+//! | `gridswarm/robot/<i>/out` | publish-subscribe `[u8]` | robot `i` (at most 1 publisher) | world |
+//! | `gridswarm/robot/<i>/in` | publish-subscribe `[u8]` | world | robot `i` |
+//! | `gridswarm/robot/<i>/wake` | event | world | robot `i` |
+//! | `gridswarm/world/wake` | event, id = robot | every robot | world |
+//!
+//! Payloads are postcard bytes of [`crate::protocol::ToWorld`] (out) and
+//! [`crate::protocol::FromWorld`] (in). The world is the radio: it relays a
+//! robot's messages to the robots in range, so one robot can only ever speak
+//! as itself, and only to the robots the physics lets it reach.
+
+use std::fs;
+use std::io;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use iceoryx2::config::Config;
+use iceoryx2::node::NodeView;
+use iceoryx2::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::map::RobotId;
+use crate::outcome::RunResult;
+
+/// Every prefix of a run starts with this, followed by the owner's pid.
+pub const PREFIX_HEAD: &str = "gs";
+
+/// Messages in a robot's inbox beyond one per robot: the inbox must hold a
+/// whole round's worth (a tick, a target broadcast from every robot, the
+/// neighbours' maps and choices, failures, the end) without dropping any.
+pub const INBOX_SLACK: usize = 64;
+/// A robot sends at most four messages a round (hello, targets, map, choice
+/// or stop), and never more than one round ahead of the world.
+pub const OUTBOX_BUFFER: usize = 16;
+/// Bytes of a postcard varint of a `u32` (or smaller), at most.
+const VARINT32: usize = 5;
+/// Bytes of a postcard varint of a `u64`, at most.
+const VARINT64: usize = 10;
+
+/// The largest message of a run (a map with every bit set and every robot
+/// failed, or a tick naming every robot): every sample is this big, so one
+/// static data segment per publisher holds any message. (A growing segment,
+/// iceoryx2's `PowerOfTwo`, costs a reference-count table for 255 possible
+/// segments per sample slot: about 0.5 MB of heap per inbox at 200 robots.)
+pub fn max_message_len(limits: &crate::protocol::Limits) -> usize {
+    let words = |bits: usize| bits.div_ceil(64);
+    let bitset = |bits: usize| VARINT32 + VARINT64 * words(bits);
+    // Enum tags (outer and inner), round, sender, vertex.
+    let header = 2 * VARINT32 + VARINT32 + 3 + VARINT32;
+    let map = bitset(limits.vertices) * 2
+        + VARINT32
+        + limits.vertices
+        + bitset(limits.targets)
+        + VARINT32
+        + limits.robots * (3 + VARINT32);
+    let tick = 2 + 2 + VARINT32 + 3 * limits.targets + VARINT32 + 3 * limits.robots;
+    let targets = VARINT32 + 3 * limits.targets;
+    header + map.max(tick).max(targets) + 16
+}
+/// The event id a robot's notifier uses is its robot id; ids up to this are
+/// valid (robots are numbered below [`MAX_ROBOTS`]).
+pub const MAX_ROBOTS: usize = 4096;
+
+/// Exit status of a robot-agent whose world-server vanished.
+pub const EXIT_WORLD_GONE: i32 = 3;
+
+/// A fresh prefix for a run owned by this process: `gs<pid>x<nonce>_`.
+pub fn new_prefix() -> String {
+    static COUNTER: AtomicU32 = AtomicU32::new(0);
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.subsec_nanos())
+        .unwrap_or(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let nonce = crate::rng::mix(((nanos as u64) << 20) ^ n as u64) & 0xff_ffff;
+    format!("{PREFIX_HEAD}{}x{nonce:06x}_", std::process::id())
+}
+
+/// Whether `prefix` has the shape [`new_prefix`] makes (so it is safe to
+/// remove files by it), and the pid of the process that owns it.
+pub fn prefix_owner(prefix: &str) -> Option<u32> {
+    let rest = prefix.strip_prefix(PREFIX_HEAD)?;
+    let (pid, rest) = rest.split_once('x')?;
+    let nonce = rest.strip_suffix('_')?;
+    if pid.is_empty() || !pid.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    if nonce.is_empty() || !nonce.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    pid.parse().ok()
+}
+
+/// The iceoryx2 configuration of the run with this prefix, built in code.
+pub fn config(prefix: &str) -> Result<Config, String> {
+    if prefix_owner(prefix).is_none() {
+        return Err(format!(
+            "`{prefix}` is not a run prefix (expected gs<pid>x<hex>_)"
+        ));
+    }
+    let mut c = Config::default();
+    c.global.prefix =
+        FileName::new(prefix.as_bytes()).map_err(|e| format!("bad prefix `{prefix}`: {e:?}"))?;
+    // Big memory win (notes: ~470 KB -> ~28 KB of heap per subscriber).
+    c.defaults
+        .publish_subscribe
+        .subscriber_expired_connection_buffer = 2;
+    // A run's prefix is fresh: there are no dead nodes to look for when a
+    // node or service comes up, and scanning 200 nodes on every one of 200
+    // starts is quadratic. The run removes its own files when it ends.
+    c.global.node.cleanup_dead_nodes_on_creation = false;
+    c.global.node.cleanup_dead_nodes_on_destruction = false;
+    c.global.service.cleanup_dead_nodes_on_open = false;
+    Ok(c)
+}
+
+/// iceoryx2's root directory for `config` (`/tmp/iceoryx2/` by default).
+pub fn root_dir(config: &Config) -> PathBuf {
+    PathBuf::from(config.global.root_path().to_string())
+}
+
+/// Sets iceoryx2's log level: errors only, unless `IOX2_LOG_LEVEL` says otherwise.
+pub fn quiet_logs() {
+    iceoryx2::prelude::set_log_level_from_env_or(LogLevel::Error);
+}
+
+/// Service and node names.
+pub mod names {
+    pub const WORLD_NODE: &str = "world";
+
+    pub fn robot_node(i: usize) -> String {
+        format!("robot-{i}")
+    }
+
+    /// The robot number of a robot node's name.
+    pub fn robot_of_node(name: &str) -> Option<usize> {
+        name.strip_prefix("robot-")?.parse().ok()
+    }
+
+    pub fn world_wake() -> String {
+        "gridswarm/world/wake".into()
+    }
+
+    pub fn robot_out(i: usize) -> String {
+        format!("gridswarm/robot/{i}/out")
+    }
+
+    pub fn robot_in(i: usize) -> String {
+        format!("gridswarm/robot/{i}/in")
+    }
+
+    pub fn robot_wake(i: usize) -> String {
+        format!("gridswarm/robot/{i}/wake")
+    }
+}
+
+/// A robot's inbox size in a run of `robots` robots.
+pub fn inbox_buffer(robots: usize) -> usize {
+    robots + INBOX_SLACK
+}
+
+pub fn service_name(name: &str) -> Result<ServiceName, String> {
+    ServiceName::new(name).map_err(|e| format!("bad service name `{name}`: {e:?}"))
+}
+
+pub fn node_name(name: &str) -> Result<NodeName, String> {
+    NodeName::new(name).map_err(|e| format!("bad node name `{name}`: {e:?}"))
+}
+
+/// The iceoryx2 service flavour every process of a run uses.
+pub type Svc = iceoryx2::prelude::ipc::Service;
+pub type BytesService =
+    iceoryx2::service::port_factory::publish_subscribe::PortFactory<Svc, [u8], ()>;
+pub type EventService = iceoryx2::service::port_factory::event::PortFactory<Svc>;
+pub type BytesPublisher = iceoryx2::port::publisher::Publisher<Svc, [u8], ()>;
+pub type BytesSubscriber = iceoryx2::port::subscriber::Subscriber<Svc, [u8], ()>;
+pub type Notifier = iceoryx2::port::notifier::Notifier<Svc>;
+pub type Listener = iceoryx2::port::listener::Listener<Svc>;
+
+/// A node of the run named `name`. Signal handling is left to the process
+/// (iceoryx2 would otherwise catch SIGINT/SIGTERM for its own waits).
+pub fn create_node(config: &Config, name: &str) -> Result<Node<Svc>, String> {
+    NodeBuilder::new()
+        .name(&node_name(name)?)
+        .config(config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<Svc>()
+        .map_err(|e| format!("cannot create node `{name}`: {e:?}"))
+}
+
+/// Creates a byte-slice publish-subscribe service with one publisher and
+/// one subscriber whose buffer holds `buffer` samples.
+pub fn create_bytes(node: &Node<Svc>, name: &str, buffer: usize) -> Result<BytesService, String> {
+    node.service_builder(&service_name(name)?)
+        .publish_subscribe::<[u8]>()
+        .max_publishers(1)
+        .max_subscribers(1)
+        .max_nodes(4)
+        .history_size(0)
+        .subscriber_max_buffer_size(buffer)
+        .subscriber_max_borrowed_samples(2)
+        // A full buffer would drop the oldest message; buffers are sized so
+        // that never happens, and so that a frozen reader can never block
+        // the writer.
+        .enable_safe_overflow(true)
+        .create()
+        .map_err(|e| format!("cannot create service `{name}`: {e:?}"))
+}
+
+/// Opens a service [`create_bytes`] made, checking it has room for a
+/// subscriber buffer of `buffer` samples.
+pub fn open_bytes(node: &Node<Svc>, name: &str, buffer: usize) -> Result<BytesService, String> {
+    node.service_builder(&service_name(name)?)
+        .publish_subscribe::<[u8]>()
+        .subscriber_max_buffer_size(buffer)
+        .open()
+        .map_err(|e| format!("cannot open service `{name}`: {e:?}"))
+}
+
+/// Creates an event service with room for `notifiers` notifiers, one
+/// listener, and event ids up to `max_id`.
+pub fn create_event(
+    node: &Node<Svc>,
+    name: &str,
+    notifiers: usize,
+    max_id: usize,
+) -> Result<EventService, String> {
+    node.service_builder(&service_name(name)?)
+        .event()
+        .max_notifiers(notifiers)
+        .max_listeners(1)
+        .max_nodes(notifiers + 3)
+        .event_id_max_value(max_id)
+        .create()
+        .map_err(|e| format!("cannot create event service `{name}`: {e:?}"))
+}
+
+pub fn open_event(node: &Node<Svc>, name: &str) -> Result<EventService, String> {
+    node.service_builder(&service_name(name)?)
+        .event()
+        .open()
+        .map_err(|e| format!("cannot open event service `{name}`: {e:?}"))
+}
+
+/// A publisher for postcard bytes of at most `max_len` bytes (see
+/// [`max_message_len`]). Free samples are reused last-in first-out, so only
+/// the pages of the few samples in flight at once are ever touched.
+pub fn bytes_publisher(service: &BytesService, max_len: usize) -> Result<BytesPublisher, String> {
+    service
+        .publisher_builder()
+        .initial_max_slice_len(max_len)
+        .allocation_strategy(AllocationStrategy::Static)
+        .create()
+        .map_err(|e| format!("cannot create publisher: {e:?}"))
+}
+
+pub fn bytes_subscriber(service: &BytesService, buffer: usize) -> Result<BytesSubscriber, String> {
+    service
+        .subscriber_builder()
+        .buffer_size(buffer)
+        .create()
+        .map_err(|e| format!("cannot create subscriber: {e:?}"))
+}
+
+/// Publishes one message.
+pub fn publish(publisher: &BytesPublisher, bytes: &[u8]) -> Result<(), String> {
+    let sample = publisher
+        .loan_slice_uninit(bytes.len())
+        .map_err(|e| format!("cannot loan a sample: {e:?}"))?;
+    sample
+        .write_from_slice(bytes)
+        .send()
+        .map_err(|e| format!("cannot send: {e:?}"))?;
+    Ok(())
+}
+
+/// Takes the next message, if any, into `buf`.
+pub fn receive(subscriber: &BytesSubscriber, buf: &mut Vec<u8>) -> Result<bool, String> {
+    match subscriber
+        .receive()
+        .map_err(|e| format!("cannot receive: {e:?}"))?
+    {
+        Some(sample) => {
+            buf.clear();
+            buf.extend_from_slice(sample.payload());
+            Ok(true)
+        }
+        None => Ok(false),
+    }
+}
+
+/// A node of the run, as [`list_nodes`] sees it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct NodeInfo {
+    pub name: String,
+    pub pid: Option<u32>,
+    /// The node's process is gone (its monitor says so).
+    pub dead: bool,
+}
+
+/// Every node of the run `config` belongs to, alive or dead.
+pub fn list_nodes(config: &Config) -> Result<Vec<NodeInfo>, String> {
+    let mut out = Vec::new();
+    Node::<ipc::Service>::list(config, |state| {
+        let (details, dead) = match &state {
+            NodeState::Alive(v) => (v.details().clone(), false),
+            NodeState::Dead(v) => (v.details().clone(), true),
+            _ => (None, false),
+        };
+        if let Some(d) = details {
+            out.push(NodeInfo {
+                name: d.name().to_string(),
+                pid: Some(d.process_id().value() as u32),
+                dead,
+            });
+        }
+        CallbackProgression::Continue
+    })
+    .map_err(|e| format!("cannot list nodes: {e:?}"))?;
+    Ok(out)
+}
+
+/// Whether process `pid` is running: it exists and is not a zombie (a
+/// killed child stays a zombie until its parent reaps it).
+pub fn pid_alive(pid: u32) -> bool {
+    match fs::read_to_string(format!("/proc/{pid}/stat")) {
+        // The state follows the command name, which is in parentheses and
+        // may itself contain spaces or parentheses.
+        Ok(stat) => match stat.rfind(')') {
+            Some(k) => !matches!(
+                stat[k + 1..].trim_start().chars().next(),
+                Some('Z' | 'X' | 'x') | None
+            ),
+            None => false,
+        },
+        Err(_) => false,
+    }
+}
+
+/// Whether process `pid` is stopped (SIGSTOP), for reports and tests.
+pub fn pid_stopped(pid: u32) -> bool {
+    match fs::read_to_string(format!("/proc/{pid}/stat")) {
+        Ok(stat) => stat
+            .rfind(')')
+            .is_some_and(|k| matches!(stat[k + 1..].trim_start().chars().next(), Some('T' | 't'))),
+        Err(_) => false,
+    }
+}
+
+/// Where the files of runs live: POSIX shared memory and iceoryx2's root.
+fn file_roots(root: &Path) -> Vec<PathBuf> {
+    vec![PathBuf::from("/dev/shm"), root.to_path_buf()]
+}
+
+/// Every file (not directory) under `dir`, recursively, whose name starts with `head`.
+fn files_starting_with(dir: &Path, head: &str, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let path = e.path();
+        let Ok(ft) = e.file_type() else { continue };
+        if ft.is_dir() {
+            files_starting_with(&path, head, out);
+        } else if e.file_name().to_string_lossy().starts_with(head) {
+            out.push(path);
+        }
+    }
+}
+
+/// Every file of the run with this prefix, under `/dev/shm` and `root`
+/// (iceoryx2's root directory, see [`root_dir`]).
+pub fn run_files(prefix: &str, root: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for r in file_roots(root) {
+        files_starting_with(&r, prefix, &mut out);
+    }
+    out.sort();
+    out
+}
+
+/// Removes every file of the run with this prefix from `/dev/shm` and
+/// `root`, and the node directories that held only its files. Returns how
+/// many files it removed. Refuses a prefix [`new_prefix`] could not have
+/// made, so a typo can never remove someone else's files.
+pub fn cleanup_run(prefix: &str, root: &Path) -> io::Result<usize> {
+    if prefix_owner(prefix).is_none() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("`{prefix}` is not a run prefix"),
+        ));
+    }
+    let files = run_files(prefix, root);
+    let mut removed = 0;
+    let mut dirs = Vec::new();
+    for f in &files {
+        match fs::remove_file(f) {
+            Ok(()) => removed += 1,
+            Err(e) if e.kind() == io::ErrorKind::NotFound => {}
+            Err(e) => return Err(e),
+        }
+        if let Some(d) = f.parent() {
+            dirs.push(d.to_path_buf());
+        }
+    }
+    // A node's details live in a directory named by its id; once the
+    // run's files are gone it is empty. `remove_dir` fails on a directory
+    // that still holds anything, so nothing of another run is touched.
+    dirs.sort();
+    dirs.dedup();
+    for d in dirs {
+        if d.starts_with(root.join("nodes")) && d != root.join("nodes") {
+            let _ = fs::remove_dir(&d);
+        }
+    }
+    Ok(removed)
+}
+
+/// The prefixes of runs that have files under `/dev/shm` or `root`.
+pub fn run_prefixes(root: &Path) -> Vec<String> {
+    let mut files = Vec::new();
+    for r in file_roots(root) {
+        files_starting_with(&r, PREFIX_HEAD, &mut files);
+    }
+    let mut prefixes: Vec<String> = files
+        .iter()
+        .filter_map(|f| {
+            let name = f.file_name()?.to_string_lossy().into_owned();
+            let end = name.find('_')?;
+            let p = &name[..=end];
+            prefix_owner(p).map(|_| p.to_string())
+        })
+        .collect();
+    prefixes.sort();
+    prefixes.dedup();
+    prefixes
+}
+
+/// Removes the files of every run whose owning process (the pid in its
+/// prefix) is gone: what a SIGKILLed orchestrator left behind. Returns the
+/// prefixes swept.
+pub fn sweep_stale(root: &Path) -> Vec<String> {
+    let mut swept = Vec::new();
+    for p in run_prefixes(root) {
+        let owner = prefix_owner(&p).expect("run_prefixes keeps run prefixes only");
+        if owner != std::process::id() && !pid_alive(owner) && cleanup_run(&p, root).is_ok() {
+            swept.push(p);
+        }
+    }
+    swept
+}
+
+/// Raises the soft limit of open files to the hard limit (the world holds
+/// about 6 descriptors per robot). Returns the new soft limit.
+pub fn raise_nofile_limit() -> u64 {
+    // SAFETY: getrlimit/setrlimit with a valid pointer to a local struct.
+    unsafe {
+        let mut lim = libc::rlimit {
+            rlim_cur: 0,
+            rlim_max: 0,
+        };
+        if libc::getrlimit(libc::RLIMIT_NOFILE, &mut lim) != 0 {
+            return 0;
+        }
+        if lim.rlim_cur < lim.rlim_max {
+            let want = libc::rlimit {
+                rlim_cur: lim.rlim_max,
+                rlim_max: lim.rlim_max,
+            };
+            if libc::setrlimit(libc::RLIMIT_NOFILE, &want) == 0 {
+                return lim.rlim_max;
+            }
+        }
+        lim.rlim_cur
+    }
+}
+
+/// CPU time (user + system) process `pid` has used so far, in milliseconds.
+pub fn cpu_ms_of(pid: u32) -> f64 {
+    let Ok(stat) = fs::read_to_string(format!("/proc/{pid}/stat")) else {
+        return 0.0;
+    };
+    let Some(k) = stat.rfind(')') else { return 0.0 };
+    // Fields after the command: state is field 3; utime and stime are 14 and 15.
+    let f: Vec<&str> = stat[k + 1..].split_whitespace().collect();
+    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    // SAFETY: sysconf has no preconditions.
+    let hz = unsafe { libc::sysconf(libc::_SC_CLK_TCK) }.max(1) as f64;
+    (ticks(11) + ticks(12)) * 1e3 / hz
+}
+
+/// Number of open file descriptors of this process.
+pub fn open_fds() -> usize {
+    fs::read_dir("/proc/self/fd")
+        .map(|d| d.count().saturating_sub(1))
+        .unwrap_or(0)
+}
+
+/// Peak resident set size of this process, in KiB (`VmHWM`).
+pub fn peak_rss_kib() -> u64 {
+    status_field("/proc/self/status", "VmHWM:")
+}
+
+/// Peak resident set size of process `pid`, in KiB (0 if unknown).
+pub fn peak_rss_kib_of(pid: u32) -> u64 {
+    status_field(&format!("/proc/{pid}/status"), "VmHWM:")
+}
+
+/// Resident set size of this process now, in KiB (`VmRSS`).
+pub fn rss_kib() -> u64 {
+    status_field("/proc/self/status", "VmRSS:")
+}
+
+fn status_field(file: &str, key: &str) -> u64 {
+    fs::read_to_string(file)
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with(key)).and_then(|l| {
+                l[key.len()..]
+                    .trim()
+                    .trim_end_matches("kB")
+                    .trim()
+                    .parse()
+                    .ok()
+            })
+        })
+        .unwrap_or(0)
+}
+
+/// A failure the world declared (Sec. 4.2).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Detection {
+    pub robot: RobotId,
+    /// The round in which the world declared it.
+    pub round: u32,
+    /// Lattice coordinates of the vertex it stays on for good.
+    pub at: [i32; 2],
+    /// `death` (its process is gone) or `deadline` (silent too long).
+    pub cause: String,
+    /// The robots told: its radio neighbours when it was declared, then
+    /// every robot that came within radio range of it later, in that order.
+    pub detected_by: Vec<RobotId>,
+    /// Milliseconds since the world started.
+    pub at_ms: f64,
+}
+
+/// Messages the world dropped, by reason.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Dropped {
+    /// From a robot declared failed, or of an older round.
+    pub stale: u64,
+    /// Undecodable or out of range for the run.
+    pub malformed: u64,
+    /// Claiming to come from another robot than the outbox it came on.
+    pub spoofed: u64,
+    /// Decodable but out of place (a second map, a choice before the exchange ended, ...).
+    pub unexpected: u64,
+}
+
+impl Dropped {
+    pub fn total(&self) -> u64 {
+        self.stale + self.malformed + self.spoofed + self.unexpected
+    }
+}
+
+/// A pause of the world at the start of a round (failure injection).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pause {
+    pub round: u32,
+    /// When the world went on again, in milliseconds since it started.
+    pub go_ms: f64,
+}
+
+/// What the world-server writes at the end of a run, for the orchestrator.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunReport {
+    /// The run's result, as the in-process engine reports it (trajectories aside).
+    pub result: RunResult,
+    /// `vertices[r][k]`: the vertex id robot `r` stood on at the start of round `k`.
+    pub vertices: Vec<Vec<u32>>,
+    pub failures: Vec<Detection>,
+    pub refused_moves: u32,
+    pub dropped: Dropped,
+    /// Wall time of every round played, in milliseconds.
+    pub round_wall_ms: Vec<f64>,
+    /// Of which: sensing and map exchange (steps 1-3), per round.
+    pub exchange_wall_ms: Vec<f64>,
+    /// Of which: the choices (step 5, its chain of waits), per round.
+    pub choice_wall_ms: Vec<f64>,
+    /// The longest chain of waiting in step 5, per round (1 for RU).
+    pub chain: Vec<u32>,
+    /// Simulated time at the end of each round (element `k` ends round `k`).
+    pub round_end_times_s: Vec<f64>,
+    /// Peak RSS of each robot-agent still running at the end (0 if unknown), KiB.
+    pub agent_peak_rss_kib: Vec<u64>,
+    /// CPU time the world spent in the rounds (after every hello), ms.
+    pub world_cpu_ms: f64,
+    /// CPU time each robot-agent still running at the end had used, ms (start-up included).
+    pub agent_cpu_ms: Vec<f64>,
+    pub pauses: Vec<Pause>,
+    /// From the world's start until every robot had said hello, in milliseconds.
+    pub startup_ms: f64,
+    pub world_peak_rss_kib: u64,
+    pub world_fds: usize,
+    /// How the search ended: `stop` (a stop rule fired), `max_rounds`, `no_robots`.
+    pub ended_by: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prefixes_are_recognised() {
+        let p = new_prefix();
+        assert_eq!(prefix_owner(&p), Some(std::process::id()));
+        assert_ne!(new_prefix(), p);
+        for bad in [
+            "",
+            "gs",
+            "gs12x_",
+            "gsx12_",
+            "gs12x12",
+            "iox2_",
+            "gs1x2y_",
+            "gs12x12_/..",
+        ] {
+            assert_eq!(prefix_owner(bad), None, "{bad}");
+        }
+        assert!(config("iox2_").is_err());
+        let c = config(&p).unwrap();
+        assert_eq!(c.global.prefix.to_string(), p);
+    }
+
+    #[test]
+    fn the_largest_messages_fit() {
+        use crate::map::Map;
+        use crate::protocol::{
+            encode_from_world, encode_to_world, FromWorld, Limits, Message, ToWorld,
+        };
+        for (vertices, targets, robots) in [
+            (1, 0, 1),
+            (100, 9, 13),
+            (7600, 25, 200),
+            (20_000, 300, 4096),
+        ] {
+            let limits = Limits {
+                vertices,
+                targets,
+                robots,
+            };
+            let mut map = Map::new(vertices, targets);
+            for v in 0..vertices {
+                map.visited.set(v);
+                map.known.set(v);
+                map.open[v] = 0xff;
+            }
+            for t in 0..targets {
+                map.targets.set(t);
+            }
+            for r in 0..robots {
+                map.add_failed(r as RobotId, (vertices - 1) as u32);
+            }
+            let big = Message::Map {
+                round: u32::MAX,
+                from: (robots - 1) as RobotId,
+                at: (vertices - 1) as u32,
+                map,
+            };
+            let tick = FromWorld::Tick {
+                round: u32::MAX,
+                at: u32::MAX,
+                open: 0xff,
+                occupied: 0xff,
+                targets: (0..targets as u16).collect(),
+                neighbours: (0..robots as u16).collect(),
+            };
+            let all = (0..targets as u16).collect();
+            let longest = [
+                encode_to_world(&ToWorld::Radio(big.clone())).len(),
+                encode_from_world(&FromWorld::Relay(big)).len(),
+                encode_from_world(&tick).len(),
+                encode_to_world(&ToWorld::Radio(Message::Targets {
+                    round: u32::MAX,
+                    from: 0,
+                    targets: all,
+                }))
+                .len(),
+            ];
+            let max = max_message_len(&limits);
+            assert!(longest.iter().all(|&l| l <= max), "{longest:?} > {max}");
+        }
+    }
+
+    #[test]
+    fn process_liveness() {
+        assert!(pid_alive(std::process::id()));
+        assert!(!pid_alive(u32::MAX - 7));
+        assert!(!pid_stopped(std::process::id()));
+    }
+
+    #[test]
+    fn cleanup_removes_only_its_run() {
+        let dir = std::env::temp_dir().join(format!("gs-ipc-test-{}", std::process::id()));
+        let nodes = dir.join("nodes").join("1234");
+        fs::create_dir_all(&nodes).unwrap();
+        let mine = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0xabc);
+        let other = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0xdef);
+        fs::write(dir.join(format!("{mine}a.service")), b"x").unwrap();
+        fs::write(nodes.join(format!("{mine}b.details")), b"x").unwrap();
+        fs::write(dir.join(format!("{other}c.service")), b"x").unwrap();
+        assert_eq!(run_files(&mine, &dir).len(), 2);
+        assert_eq!(cleanup_run(&mine, &dir).unwrap(), 2);
+        assert!(run_files(&mine, &dir).is_empty());
+        assert!(!nodes.exists(), "the emptied node directory goes too");
+        assert_eq!(run_files(&other, &dir).len(), 1);
+        assert!(run_prefixes(&dir).contains(&other));
+        // Its owner (this process) is alive: not stale.
+        assert!(!sweep_stale(&dir).contains(&other));
+        assert!(cleanup_run("iox2_", &dir).is_err());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,159 @@
+//! Helpers for the end-to-end tests in `tests/tests/`: they drive the real
+//! binaries (`gridswarm`, `world-server`, `robot-agent`) from the build
+//! directory next to the test executable, and check after every run that no
+//! file and no process of it is left.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::{Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+/// The build directory holding the binaries: the test executable lives in
+/// its `deps/`. `cargo test --workspace` builds every binary first (each
+/// binary crate has an integration test of its own, which makes cargo build it).
+pub fn bin_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("test executable");
+    let dir = exe
+        .parent()
+        .and_then(Path::parent)
+        .expect("target/<profile>/deps/<test>")
+        .to_path_buf();
+    for b in ["gridswarm", "world-server", "robot-agent"] {
+        assert!(
+            dir.join(b).is_file(),
+            "{} is missing: run `cargo test --release --workspace` (or `cargo build --release --workspace` first)",
+            dir.join(b).display()
+        );
+    }
+    dir
+}
+
+pub fn gridswarm() -> Command {
+    let mut c = Command::new(bin_dir().join("gridswarm"));
+    c.env_remove("GRIDSWARM_BIN_DIR");
+    c
+}
+
+/// One test at a time: the machine has two cores and the deadline tests
+/// must not be starved by other runs.
+pub fn serial() -> MutexGuard<'static, ()> {
+    static LOCK: Mutex<()> = Mutex::new(());
+    LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+pub fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Runs `gridswarm run --json ARGS`, expects success, returns the summary.
+pub fn run_json(args: &[&str]) -> Value {
+    let out = gridswarm()
+        .arg("run")
+        .arg("--json")
+        .args(args)
+        .output()
+        .expect("gridswarm runs");
+    assert!(
+        out.status.success(),
+        "gridswarm run {args:?} failed: {}",
+        text(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_no_leftovers(v["ipc_prefix"].as_str().expect("the run names its prefix"));
+    v
+}
+
+/// Runs a gridswarm subcommand, expects success.
+pub fn ok(args: &[&str]) -> Output {
+    let out = gridswarm().args(args).output().expect("gridswarm runs");
+    assert!(
+        out.status.success(),
+        "gridswarm {args:?} failed: {}",
+        text(&out.stderr)
+    );
+    out
+}
+
+/// iceoryx2's root directory for the runs of these tests.
+pub fn iox_root() -> PathBuf {
+    let p = format!("gs{}x1_", std::process::id());
+    gridswarm::ipc::root_dir(&gridswarm::ipc::config(&p).expect("a valid prefix"))
+}
+
+/// Every file of the run with this prefix in /dev/shm and iceoryx2's root.
+pub fn leftover_files(prefix: &str) -> Vec<PathBuf> {
+    gridswarm::ipc::run_files(prefix, &iox_root())
+}
+
+pub fn assert_no_leftovers(prefix: &str) {
+    let files = leftover_files(prefix);
+    assert!(files.is_empty(), "files of run {prefix} left: {files:?}");
+}
+
+/// Child processes of `pid`.
+pub fn children(pid: u32) -> Vec<u32> {
+    let mut out = Vec::new();
+    if let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) {
+        for t in tasks.flatten() {
+            if let Ok(s) = std::fs::read_to_string(t.path().join("children")) {
+                out.extend(s.split_whitespace().filter_map(|p| p.parse::<u32>().ok()));
+            }
+        }
+    }
+    out
+}
+
+pub fn cmdline(pid: u32) -> Vec<String> {
+    std::fs::read(format!("/proc/{pid}/cmdline"))
+        .map(|b| {
+            b.split(|&c| c == 0)
+                .filter(|a| !a.is_empty())
+                .map(text)
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The value following `flag` in a command line.
+pub fn arg_of(cmd: &[String], flag: &str) -> Option<String> {
+    cmd.iter()
+        .position(|a| a == flag)
+        .and_then(|k| cmd.get(k + 1).cloned())
+}
+
+pub fn alive(pid: u32) -> bool {
+    gridswarm::ipc::pid_alive(pid)
+}
+
+pub fn stopped(pid: u32) -> bool {
+    gridswarm::ipc::pid_stopped(pid)
+}
+
+/// Polls `cond` every 10 ms until it holds or `timeout` passes.
+pub fn wait_until(timeout: Duration, mut cond: impl FnMut() -> bool) -> bool {
+    let end = Instant::now() + timeout;
+    while Instant::now() < end {
+        if cond() {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    cond()
+}
+
+pub fn signal(pid: u32, sig: i32) {
+    // SAFETY: kill(2) on a process this test started (or its child).
+    unsafe {
+        libc::kill(pid as libc::pid_t, sig);
+    }
+}
+
+/// A fresh scratch directory for one test.
+pub fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("gridswarm-e2e-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
