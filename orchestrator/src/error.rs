@@ -17,6 +17,12 @@ pub enum Error {
     Write { path: PathBuf, source: std::io::Error },
     #[error("cannot draw `{}`: {message}", path.display())]
     Plot { path: PathBuf, message: String },
+    /// `gridswarm run`: a child process failed or the run was interrupted.
+    #[error("{0}")]
+    Run(String),
+    /// A recorded file (a run directory's) that is missing or malformed.
+    #[error("cannot read `{}`: {message}", path.display())]
+    Read { path: PathBuf, message: String },
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

@@ -26,7 +26,7 @@ use crate::error::{Error, Result};
 use crate::robots::compress;
 use crate::seeds::run_seed;
 use crate::stats::{CellStats, RunRecord};
-use crate::{check, output, plot};
+use crate::{check, output, plot, report};
 
 /// The algorithms of Fig. 7, in its legend's order.
 pub const DEFAULT_ALGORITHMS: &str = "lfp,ru,sequential,repulsive";
@@ -142,10 +142,21 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         "claims": claims,
     });
     output::write_json(&out.join("summary.json"), &summary)?;
+    let page = report::fig7(&report::Fig7Inputs {
+        summary: &summary,
+        cells: &cells,
+        claims: &claims,
+        fig7_svg: &svg,
+        incomplete_note: &incomplete_note(&cells, opts.max_rounds),
+        wall_time_s,
+        threads: rayon::current_num_threads(),
+        runs_total: records.len(),
+    });
+    output::write_text(&out.join("report.html"), &report::render(&page))?;
 
     let text = format!(
         "{setup}{}\n{claims_text}\n{} runs in {wall_time_s:.2} s wall time on {} threads; \
-         wrote results.csv, runs.csv, fig7.svg, claims.txt, summary.json in {}\n",
+         wrote results.csv, runs.csv, fig7.svg, claims.txt, summary.json, report.html in {}\n",
         table(&cells),
         records.len(),
         rayon::current_num_threads(),
@@ -206,6 +217,9 @@ impl Plan<'_> {
                     .expect("static template")
                     .progress_chars("=> "),
             );
+            // Redraw (elapsed, eta) even while no run finishes: single runs
+            // of a large scenario can take seconds.
+            b.enable_steady_tick(std::time::Duration::from_millis(200));
             b
         } else {
             ProgressBar::hidden()

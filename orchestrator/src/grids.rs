@@ -10,9 +10,12 @@ use std::path::PathBuf;
 use gridswarm::lattice::LatticeKind;
 use serde::Serialize;
 
+use gridswarm::scenario::Scenario;
+
 use crate::contract;
 use crate::error::Result;
 use crate::output;
+use crate::report::{self, Block, Report, Section, Table};
 
 #[derive(Clone, Debug)]
 pub struct GridsOptions {
@@ -90,8 +93,50 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
         "lattices on which visiting all of Va detects every raster sample of Ad: {}",
         if complete.is_empty() { "none".to_string() } else { complete.join(", ") }
     );
+    let html_path = opts.out.join("grids.html");
+    output::write_text(&html_path, &report::render(&grids_report(&base, h, &rows, &text)))?;
     let _ = writeln!(text, "wrote {}", csv_path.display());
+    let _ = writeln!(text, "wrote {}", html_path.display());
     Ok((rows, text))
+}
+
+/// `grids.html`: the comparison table and the setup, on one page (named
+/// apart from the Fig. 7 sweep's `report.html`, which may share the directory).
+fn grids_report(base: &Scenario, h: f64, rows: &[GridRow], text: &str) -> Report {
+    let table = Table {
+        header: ["grid", "degree", "frame vertices", "accessible", "|Va|", "detected fraction", "undetected (m²)"]
+            .map(String::from)
+            .to_vec(),
+        rows: rows
+            .iter()
+            .map(|r| {
+                vec![
+                    r.grid.to_string(),
+                    r.degree.to_string(),
+                    r.frame_vertices.to_string(),
+                    r.accessible.to_string(),
+                    r.va.to_string(),
+                    format!("{:.6}", r.detected_fraction),
+                    format!("{:.4}", r.undetected_area_m2),
+                ]
+            })
+            .collect(),
+    };
+    let mut params = vec![
+        ("scenario".to_string(), base.name.clone()),
+        ("robots (start vertices)".to_string(), base.robots.to_string()),
+        ("raster cell (m)".to_string(), h.to_string()),
+    ];
+    params.extend(report::params_of("params", &serde_json::to_value(base.params).expect("params serialise")));
+    Report {
+        title: format!("Lattice comparison (Sec. 3): {} scenario", base.name),
+        subtitle: "How much of Ad is detected once every vertex of Va is visited, on each lattice at the same a".into(),
+        sections: vec![
+            Section::new("Detected fraction by lattice", vec![Block::Table(table)]),
+            Section::new("As printed", vec![Block::Pre(text.to_string())]),
+            Section::new("Parameters", vec![Block::Params(params)]),
+        ],
+    }
 }
 
 pub fn csv(rows: &[GridRow]) -> String {

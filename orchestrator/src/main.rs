@@ -47,7 +47,8 @@ enum Command {
         /// 1: the number of targets is known; 2: it is not [default: the scenario's].
         #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
         situation: Option<u8>,
-        /// Write summary.json, trajectories.jsonl and routes.svg here (created if missing).
+        /// Write summary.json, trajectories.jsonl, routes.svg, world.json, rounds.csv and
+        /// replay.html here (created if missing).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Print exactly one JSON object instead of the summary.
@@ -60,8 +61,9 @@ enum Command {
     /// The Monte Carlo sweep of Fig. 7 and its claims; with --grids, the
     /// lattice comparison of Sec. 3 instead.
     ///
-    /// Writes results.csv, runs.csv, fig7.svg, claims.txt and summary.json
-    /// (grids.csv with --grids) in --out, and prints the table and claims.
+    /// Writes results.csv, runs.csv, fig7.svg, claims.txt, summary.json and
+    /// report.html (grids.csv and grids.html with --grids) in --out, and
+    /// prints the table and claims.
     Experiment {
         /// Built-in scenario (paper, open, cave, large) or a TOML file.
         #[arg(long, default_value = "paper")]
@@ -90,6 +92,54 @@ enum Command {
         /// Compare the triangular, square and hexagonal lattices on the map (Sec. 3).
         #[arg(long)]
         grids: bool,
+    },
+    /// Write (or rewrite) DIR/replay.html, the page that plays a run back,
+    /// from the files a run wrote there; prints the page's path.
+    Replay {
+        /// A directory written by `simulate --out` (world.json, trajectories.jsonl, summary.json).
+        dir: PathBuf,
+    },
+    /// One search with one process per robot (world-server + robot-agents
+    /// over iceoryx2), with failure injection; the same files as `simulate`.
+    Run {
+        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        #[arg(long, default_value = "paper")]
+        scenario: String,
+        /// repulsive, sequential, ru or escape (grid policies only).
+        #[arg(long, default_value = "repulsive")]
+        algorithm: Policy,
+        /// Number of robots [default: the scenario's].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=gridswarm::ipc::MAX_ROBOTS as i64))]
+        robots: Option<u32>,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// 1: the number of targets is known; 2: it is not [default: the scenario's].
+        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+        situation: Option<u8>,
+        /// SIGKILL robot ROBOT at the start of round ROUND (repeatable).
+        #[arg(long, value_name = "ROBOT@ROUND", value_parser = gridswarm_orchestrator::run::parse_kill)]
+        kill: Vec<(usize, u32)>,
+        /// SIGSTOP robot ROBOT at the start of round ROUND, SIGCONT at WAKE (repeatable).
+        #[arg(long, value_name = "ROBOT@ROUND[:WAKE]", value_parser = gridswarm_orchestrator::run::parse_freeze)]
+        freeze: Vec<(usize, u32, Option<u32>)>,
+        /// SIGKILL K distinct robots at rounds 1..=20, drawn from the seed.
+        #[arg(long, value_name = "K", default_value_t = 0)]
+        kill_random: usize,
+        /// A robot silent this long, with nothing it waits for missing, is declared failed.
+        #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
+        suspect_ms: u64,
+        /// Write summary.json, trajectories.jsonl, routes.svg (and the replay files) here.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print exactly one JSON object instead of the summary.
+        #[arg(long)]
+        json: bool,
+        /// A run not stopped after this many rounds ends incomplete.
+        #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u32).range(1..))]
+        max_rounds: u32,
+        /// Testing: robot ROBOT takes MS milliseconds over each round's sensing.
+        #[arg(long, hide = true, value_name = "ROBOT@MS", value_parser = gridswarm_orchestrator::run::parse_kill)]
+        slow: Vec<(usize, u32)>,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     Check {
@@ -153,6 +203,41 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             };
             let (_, text) = experiment::run(&opts)?;
             emit(&text);
+        }
+        Command::Replay { dir } => {
+            emit(&format!("{}\n", gridswarm_orchestrator::replay::write(&dir)?.display()));
+        }
+        Command::Run {
+            scenario,
+            algorithm,
+            robots,
+            seed,
+            situation: s,
+            kill,
+            freeze,
+            kill_random,
+            suspect_ms,
+            out,
+            json,
+            max_rounds,
+            slow,
+        } => {
+            let opts = gridswarm_orchestrator::run::RunOptions {
+                scenario,
+                algorithm,
+                robots: robots.map(|r| r as usize),
+                seed,
+                situation: situation(s),
+                kills: kill,
+                freezes: freeze,
+                kill_random,
+                suspect_ms,
+                out,
+                json,
+                max_rounds,
+                slow,
+            };
+            emit(&gridswarm_orchestrator::run::run(&opts)?);
         }
         Command::Check { scenario } => {
             let outcome = check::check(&scenario)?;

@@ -10,7 +10,8 @@ use serde_json::json;
 
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
-use crate::{check, output, routes};
+use crate::rundir::{self, RunRecord};
+use crate::{check, output};
 
 #[derive(Clone, Debug)]
 pub struct SimulateOptions {
@@ -50,42 +51,21 @@ pub fn simulate(opts: &SimulateOptions) -> Result<String> {
     cfg.max_rounds = opts.max_rounds;
     cfg.record_trajectories = opts.out.is_some();
     cfg.measure_coverage = true;
-    let result = Runner::new(&world, lfp).run(&starts, &cfg);
-
-    let mut summary = output::run_summary(&scenario, &lfp, &result);
-    summary["max_rounds"] = json!(opts.max_rounds);
-    summary["starts"] = json!(starts
-        .iter()
-        .map(|&v| {
-            let c = world.grid.coord(v);
-            [c.i, c.j]
-        })
-        .collect::<Vec<_>>());
-
-    let mut written = Vec::new();
-    if let Some(dir) = &opts.out {
-        let path = dir.join("summary.json");
-        output::write_json(&path, &summary)?;
-        written.push(path);
-        let path = dir.join("trajectories.jsonl");
-        output::write_file(&path, |w| output::write_trajectories(w, &result.trajectories))?;
-        written.push(path);
-        let title = format!(
-            "{}: {} ({}), {} robots, seed {}: {} rounds, {:.1} s, {}/{} targets",
-            scenario.name,
-            result.algorithm.name(),
-            result.algorithm.paper_label(),
-            result.robots,
-            result.seed,
-            result.rounds,
-            result.search_time_s,
-            result.targets_found,
-            result.targets_total
-        );
-        let path = dir.join("routes.svg");
-        output::write_text(&path, &routes::routes_svg(&world, &result.trajectories, &title))?;
-        written.push(path);
-    }
+    let (result, round_end_times) = Runner::new(&world, lfp).run_with_round_times(&starts, &cfg);
+    let record = RunRecord {
+        scenario: &scenario,
+        world: &world,
+        starts: &starts,
+        lfp: &lfp,
+        result: &result,
+        round_end_times_s: Some(&round_end_times),
+        extra: json!({ "max_rounds": opts.max_rounds }),
+    };
+    let summary = record.summary();
+    let written = match &opts.out {
+        Some(dir) => rundir::write_run_dir(dir, &record)?,
+        None => Vec::new(),
+    };
 
     if opts.json {
         return Ok(format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")));

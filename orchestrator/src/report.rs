@@ -1,0 +1,494 @@
+//! `report.html`: an experiment's plots, tables, parameters and claim checks
+//! on one self-contained page (inline CSS and SVG, no script, no network).
+//!
+//! Every experiment builds a [`Report`] of sections and blocks and calls
+//! [`render`]; the Fig. 7 sweep's is [`fig7`]. The failure and scaling
+//! experiments are meant to reuse the same blocks, so all reports look alike.
+
+use std::fmt::Write as _;
+
+use serde_json::Value;
+
+use crate::claims::{ClaimResult, Verdict};
+use crate::routes::xml_escape;
+use crate::stats::CellStats;
+
+/// A page: a title, an optional line under it, and sections in order.
+#[derive(Clone, Debug, Default)]
+pub struct Report {
+    pub title: String,
+    pub subtitle: String,
+    pub sections: Vec<Section>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Section {
+    pub heading: String,
+    pub blocks: Vec<Block>,
+}
+
+impl Section {
+    pub fn new(heading: impl Into<String>, blocks: Vec<Block>) -> Self {
+        Section { heading: heading.into(), blocks }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub enum Block {
+    /// A paragraph of plain text.
+    Text(String),
+    /// Preformatted text (terminal output, notes).
+    Pre(String),
+    /// An SVG document, inlined (an XML declaration is dropped); the caption is plain text.
+    Figure {
+        svg: String,
+        caption: String,
+    },
+    Table(Table),
+    /// Name and value pairs, e.g. the parameters of a run.
+    Params(Vec<(String, String)>),
+    /// Claim checks with their verdicts and evidence.
+    Claims(Vec<Claim>),
+    /// Links to files next to the report (relative paths), with a description.
+    Files(Vec<(String, String)>),
+}
+
+/// A table of text cells; a column whose cells all read as numbers (or are
+/// empty) is right-aligned.
+#[derive(Clone, Debug, Default)]
+pub struct Table {
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+}
+
+/// One claim as a report shows it: what is claimed, by what rule, the
+/// verdict and the numbers behind it.
+#[derive(Clone, Debug)]
+pub struct Claim {
+    pub id: String,
+    pub statement: String,
+    pub criterion: String,
+    pub verdict: Verdict,
+    pub evidence: Vec<String>,
+}
+
+impl From<&ClaimResult> for Claim {
+    fn from(c: &ClaimResult) -> Self {
+        Claim {
+            id: c.id.to_string(),
+            statement: c.statement.to_string(),
+            criterion: c.criterion.to_string(),
+            verdict: c.verdict,
+            evidence: c.lines.iter().map(|l| l.trim().to_string()).filter(|l| !l.is_empty()).collect(),
+        }
+    }
+}
+
+/// Name/value rows of a JSON object, nested objects flattened with dots
+/// (`params.a`), in the object's order.
+pub fn params_of(prefix: &str, v: &Value) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    match v {
+        Value::Object(map) => {
+            for (k, x) in map {
+                let name = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+                out.extend(params_of(&name, x));
+            }
+        }
+        Value::String(s) => out.push((prefix.to_string(), s.clone())),
+        other => out.push((prefix.to_string(), other.to_string())),
+    }
+    out
+}
+
+const STYLE: &str = r#"
+:root { font-family: system-ui, -apple-system, "Segoe UI", Roboto, "Helvetica Neue", Arial, sans-serif; color: #222; }
+body { margin: 0; background: #f6f6f3; }
+.page { max-width: 1100px; margin: 0 auto; padding: 24px 28px 48px; background: #fff; min-height: 100vh; box-sizing: border-box; }
+h1 { font-size: 22px; margin: 0 0 4px; }
+.subtitle { color: #666; font-size: 14px; margin-bottom: 18px; }
+h2 { font-size: 17px; margin: 28px 0 10px; padding-bottom: 4px; border-bottom: 1px solid #e2e2dc; }
+nav { font-size: 13px; margin: 0 0 8px; }
+nav a { margin-right: 14px; color: #1f5f99; text-decoration: none; }
+figure { margin: 8px 0; }
+figure svg { max-width: 100%; height: auto; border: 1px solid #eee; }
+figcaption { font-size: 13px; color: #555; margin-top: 4px; }
+table { border-collapse: collapse; font-size: 13px; margin: 6px 0; }
+th, td { padding: 3px 8px; border-bottom: 1px solid #eee; text-align: left; white-space: nowrap; }
+th { white-space: normal; vertical-align: bottom; }
+th { background: #f3f3ef; font-weight: 600; position: sticky; top: 0; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+tr:hover td { background: #fafaf4; }
+.scroll { max-height: 520px; overflow: auto; border: 1px solid #eee; display: inline-block; max-width: 100%; }
+dl.params { display: grid; grid-template-columns: max-content auto; gap: 2px 18px; font-size: 13px; margin: 6px 0; }
+dl.params dt { color: #555; font-family: ui-monospace, Menlo, Consolas, monospace; }
+dl.params dd { margin: 0; font-family: ui-monospace, Menlo, Consolas, monospace; word-break: break-word; }
+pre { background: #f7f7f4; border: 1px solid #eee; padding: 8px 10px; font-size: 12px; overflow-x: auto; }
+.claim { border: 1px solid #e4e4de; border-left-width: 5px; border-radius: 3px; padding: 8px 12px; margin: 10px 0; }
+.claim.holds { border-left-color: #2ca02c; }
+.claim.fails { border-left-color: #d62728; }
+.claim.not_evaluated { border-left-color: #aaa; }
+.claim .head { font-weight: 600; }
+.verdict { display: inline-block; font-size: 12px; font-weight: 700; padding: 1px 8px; border-radius: 10px; margin-left: 6px; color: #fff; }
+.holds .verdict { background: #2ca02c; } .fails .verdict { background: #d62728; } .not_evaluated .verdict { background: #999; }
+.claim .criterion { font-size: 13px; color: #555; margin: 4px 0; }
+.claim ul { margin: 4px 0 0; padding-left: 18px; font-size: 13px; }
+.claim li { font-family: ui-monospace, Menlo, Consolas, monospace; font-size: 12px; }
+p { font-size: 14px; line-height: 1.45; }
+ul.files { font-size: 13px; }
+footer { margin-top: 36px; font-size: 12px; color: #888; }
+"#;
+
+fn is_number(s: &str) -> bool {
+    let t = s.trim();
+    t.is_empty()
+        || t == "-"
+        || t.trim_end_matches('%').parse::<f64>().is_ok()
+        || t.split('/').all(|p| p.parse::<f64>().is_ok())
+}
+
+/// Drops what may precede the `<svg` element (XML declaration, doctype,
+/// comments), which is not allowed inside HTML.
+fn inline_svg(svg: &str) -> &str {
+    svg.find("<svg").map(|k| &svg[k..]).unwrap_or(svg).trim_end()
+}
+
+fn anchor(heading: &str) -> String {
+    let mut a: String =
+        heading.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' }).collect();
+    while a.contains("--") {
+        a = a.replace("--", "-");
+    }
+    a.trim_matches('-').to_string()
+}
+
+fn render_table(s: &mut String, t: &Table) {
+    let cols = t.header.len().max(t.rows.iter().map(Vec::len).max().unwrap_or(0));
+    let numeric: Vec<bool> = (0..cols).map(|c| t.rows.iter().all(|r| r.get(c).is_none_or(|x| is_number(x)))).collect();
+    let _ = writeln!(s, "<div class=\"scroll\"><table>");
+    let _ = write!(s, "<thead><tr>");
+    for h in &t.header {
+        let _ = write!(s, "<th>{}</th>", xml_escape(h));
+    }
+    let _ = writeln!(s, "</tr></thead>\n<tbody>");
+    for row in &t.rows {
+        let _ = write!(s, "<tr>");
+        for (c, cell) in row.iter().enumerate() {
+            let class = if numeric[c] { " class=\"num\"" } else { "" };
+            let _ = write!(s, "<td{class}>{}</td>", xml_escape(cell));
+        }
+        let _ = writeln!(s, "</tr>");
+    }
+    let _ = writeln!(s, "</tbody></table></div>");
+}
+
+fn render_block(s: &mut String, b: &Block) {
+    match b {
+        Block::Text(t) => {
+            let _ = writeln!(s, "<p>{}</p>", xml_escape(t));
+        }
+        Block::Pre(t) => {
+            let _ = writeln!(s, "<pre>{}</pre>", xml_escape(t.trim_end()));
+        }
+        Block::Figure { svg, caption } => {
+            let _ = writeln!(s, "<figure>\n{}", inline_svg(svg));
+            if !caption.is_empty() {
+                let _ = writeln!(s, "<figcaption>{}</figcaption>", xml_escape(caption));
+            }
+            let _ = writeln!(s, "</figure>");
+        }
+        Block::Table(t) => render_table(s, t),
+        Block::Params(rows) => {
+            let _ = writeln!(s, "<dl class=\"params\">");
+            for (k, v) in rows {
+                let _ = writeln!(s, "<dt>{}</dt><dd>{}</dd>", xml_escape(k), xml_escape(v));
+            }
+            let _ = writeln!(s, "</dl>");
+        }
+        Block::Claims(claims) => {
+            for c in claims {
+                let class = match c.verdict {
+                    Verdict::Holds => "holds",
+                    Verdict::Fails => "fails",
+                    Verdict::NotEvaluated => "not_evaluated",
+                };
+                let _ = writeln!(
+                    s,
+                    "<div class=\"claim {class}\"><div class=\"head\">Claim ({}) {}<span class=\"verdict\">{}</span></div>",
+                    xml_escape(&c.id),
+                    xml_escape(&c.statement),
+                    xml_escape(c.verdict.word())
+                );
+                if c.verdict != Verdict::NotEvaluated {
+                    let _ = writeln!(s, "<div class=\"criterion\">Criterion: {}</div>", xml_escape(&c.criterion));
+                }
+                if !c.evidence.is_empty() {
+                    let _ = writeln!(s, "<ul>");
+                    for l in &c.evidence {
+                        let _ = writeln!(s, "<li>{}</li>", xml_escape(l));
+                    }
+                    let _ = writeln!(s, "</ul>");
+                }
+                let _ = writeln!(s, "</div>");
+            }
+        }
+        Block::Files(files) => {
+            let _ = writeln!(s, "<ul class=\"files\">");
+            for (path, what) in files {
+                let _ = writeln!(
+                    s,
+                    "<li><a href=\"{}\">{}</a>: {}</li>",
+                    xml_escape(path),
+                    xml_escape(path),
+                    xml_escape(what)
+                );
+            }
+            let _ = writeln!(s, "</ul>");
+        }
+    }
+}
+
+/// The page as one HTML document.
+pub fn render(report: &Report) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n\
+         <style>{STYLE}</style>\n</head>\n<body>\n<div class=\"page\">",
+        xml_escape(&report.title)
+    );
+    let _ = writeln!(s, "<h1>{}</h1>", xml_escape(&report.title));
+    if !report.subtitle.is_empty() {
+        let _ = writeln!(s, "<div class=\"subtitle\">{}</div>", xml_escape(&report.subtitle));
+    }
+    if report.sections.len() > 1 {
+        let _ = write!(s, "<nav>");
+        for sec in &report.sections {
+            let _ = write!(s, "<a href=\"#{}\">{}</a>", anchor(&sec.heading), xml_escape(&sec.heading));
+        }
+        let _ = writeln!(s, "</nav>");
+    }
+    for sec in &report.sections {
+        let _ = writeln!(s, "<section id=\"{}\">\n<h2>{}</h2>", anchor(&sec.heading), xml_escape(&sec.heading));
+        for b in &sec.blocks {
+            render_block(&mut s, b);
+        }
+        let _ = writeln!(s, "</section>");
+    }
+    let _ = writeln!(
+        s,
+        "<footer>Written by gridswarm {}. Self-contained: this page loads nothing else.</footer>",
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(s, "</div>\n</body>\n</html>");
+    s
+}
+
+/// The results table of a Fig. 7 sweep, one row per (algorithm, robots).
+pub fn cells_table(cells: &[CellStats]) -> Table {
+    let f = |x: Option<f64>, d: usize| x.map(|v| format!("{v:.d$}")).unwrap_or_else(|| "-".into());
+    Table {
+        header: [
+            "algorithm",
+            "label",
+            "robots",
+            "completed",
+            "mean time (s)",
+            "ci95 (s)",
+            "std (s)",
+            "median (s)",
+            "mean rounds",
+            "mean collisions",
+            "mean targets found",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: cells
+            .iter()
+            .map(|c| {
+                vec![
+                    c.algorithm.name().to_string(),
+                    c.algorithm.paper_label().to_string(),
+                    c.robots.to_string(),
+                    format!("{}/{}", c.completed_runs, c.runs),
+                    f(c.mean_search_time_s, 1),
+                    f(c.ci95_s, 1),
+                    f(c.std_search_time_s, 1),
+                    f(c.median_search_time_s, 1),
+                    f(c.mean_rounds, 1),
+                    f(c.mean_collisions, 2),
+                    format!("{:.2}", c.mean_targets_found),
+                ]
+            })
+            .collect(),
+    }
+}
+
+/// What a Fig. 7 sweep ran and produced, for [`fig7`].
+pub struct Fig7Inputs<'a> {
+    /// The sweep's `summary.json` (its setup is read from it).
+    pub summary: &'a Value,
+    pub cells: &'a [CellStats],
+    pub claims: &'a [ClaimResult],
+    pub fig7_svg: &'a str,
+    /// Cells cut short by the round limit, if any (one paragraph).
+    pub incomplete_note: &'a str,
+    pub wall_time_s: f64,
+    pub threads: usize,
+    pub runs_total: usize,
+}
+
+/// The Fig. 7 sweep's report.
+pub fn fig7(x: &Fig7Inputs) -> Report {
+    let s = x.summary;
+    let get = |k: &str| match s.get(k) {
+        Some(Value::String(t)) => t.clone(),
+        Some(v) => v.to_string(),
+        None => "?".into(),
+    };
+    let mut setup: Vec<(String, String)> = [
+        "scenario",
+        "grid",
+        "situation",
+        "algorithms",
+        "robots",
+        "runs",
+        "seed",
+        "seed_derivation",
+        "max_rounds",
+        "statistics",
+    ]
+    .iter()
+    .filter(|k| s.get(**k).is_some())
+    .map(|k| (k.to_string(), get(k)))
+    .collect();
+    setup.extend(params_of("params", s.get("params").unwrap_or(&Value::Null)));
+    setup.extend(params_of("lfp", s.get("lfp").unwrap_or(&Value::Null)));
+
+    let holds = x.claims.iter().filter(|c| c.verdict == Verdict::Holds).count();
+    let evaluated = x.claims.iter().filter(|c| c.verdict != Verdict::NotEvaluated).count();
+    let mut claims_blocks = vec![Block::Claims(x.claims.iter().map(Claim::from).collect())];
+    if !x.incomplete_note.trim().is_empty() {
+        claims_blocks.insert(0, Block::Text(x.incomplete_note.trim().to_string()));
+    }
+    Report {
+        title: format!("Fig. 7 sweep: {} scenario", get("scenario")),
+        subtitle: format!(
+            "{} runs per cell, base seed {}, situation {}; {} runs in {:.2} s wall time on {} threads; \
+             claims: {holds} of {evaluated} evaluated hold",
+            get("runs"),
+            get("seed"),
+            get("situation"),
+            x.runs_total,
+            x.wall_time_s,
+            x.threads
+        ),
+        sections: vec![
+            Section::new(
+                "Mean search time",
+                vec![Block::Figure {
+                    svg: x.fig7_svg.to_string(),
+                    caption: "Mean simulated search time of the completed runs against the number of robots, \
+                              with 95% confidence intervals (as the paper's Fig. 7)."
+                        .into(),
+                }],
+            ),
+            Section::new("Claims", claims_blocks),
+            Section::new("Results", vec![Block::Table(cells_table(x.cells))]),
+            Section::new("Parameters", vec![Block::Params(setup)]),
+            Section::new(
+                "Files",
+                vec![Block::Files(
+                    [
+                        ("results.csv", "the table above"),
+                        ("runs.csv", "every run: seed, time, rounds, collisions, targets"),
+                        ("fig7.svg", "the figure"),
+                        ("claims.txt", "the claim checks as text"),
+                        ("summary.json", "everything above as JSON"),
+                    ]
+                    .map(|(a, b)| (a.to_string(), b.to_string()))
+                    .to_vec(),
+                )],
+            ),
+        ],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gridswarm::policy::Policy;
+    use serde_json::json;
+
+    #[test]
+    fn escapes_text_and_inlines_svg() {
+        let r = Report {
+            title: "a <b> & c".into(),
+            subtitle: String::new(),
+            sections: vec![Section::new(
+                "One",
+                vec![
+                    Block::Figure {
+                        svg: "<?xml version=\"1.0\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\"><rect/></svg>\n"
+                            .into(),
+                        caption: "x < y".into(),
+                    },
+                    Block::Table(Table {
+                        header: vec!["name".into(), "value".into()],
+                        rows: vec![vec!["<i>".into(), "1.5".into()], vec!["b".into(), "".into()]],
+                    }),
+                    Block::Params(params_of("p", &json!({ "a": 1.0, "b": { "c": "d" } }))),
+                ],
+            )],
+        };
+        let html = render(&r);
+        assert!(html.contains("<title>a &lt;b&gt; &amp; c</title>"));
+        assert!(!html.contains("<?xml"));
+        assert!(html.contains("<figure>\n<svg xmlns"));
+        assert!(html.contains("<td>&lt;i&gt;</td><td class=\"num\">1.5</td>"));
+        assert!(html.contains("<dt>p.b.c</dt><dd>d</dd>"));
+        assert!(html.contains("<figcaption>x &lt; y</figcaption>"));
+        assert!(!html.contains("<script"));
+    }
+
+    #[test]
+    fn claims_show_their_verdicts() {
+        let c = ClaimResult {
+            id: "a",
+            statement: "s",
+            criterion: "c",
+            verdict: Verdict::Fails,
+            lines: vec!["  n = 3".into()],
+            data: json!({}),
+        };
+        let html = render(&Report {
+            title: "t".into(),
+            subtitle: String::new(),
+            sections: vec![Section::new("C", vec![Block::Claims(vec![Claim::from(&c)])])],
+        });
+        assert!(html.contains("class=\"claim fails\""));
+        assert!(html.contains("DOES NOT HOLD"));
+        assert!(html.contains("<li>n = 3</li>"));
+    }
+
+    #[test]
+    fn table_of_cells() {
+        let c = CellStats {
+            algorithm: Policy::Ru,
+            robots: 4,
+            runs: 5,
+            completed_runs: 4,
+            mean_search_time_s: Some(100.0),
+            std_search_time_s: None,
+            ci95_s: None,
+            mean_rounds: Some(10.0),
+            mean_collisions: Some(0.5),
+            median_search_time_s: Some(99.0),
+            mean_targets_found: 9.0,
+        };
+        let t = cells_table(&[c]);
+        assert_eq!(t.rows[0][..5], ["ru", "RU", "4", "4/5", "100.0"].map(String::from));
+        assert_eq!(t.rows[0][5], "-");
+    }
+}
