@@ -167,7 +167,7 @@ impl<'g> Agent<'g> {
             }
             FromWorld::ExchangeDone { round } if round == self.round && self.robot.is_some() => {
                 self.exchange_done = true;
-                let robot = self.robot.as_ref().expect("checked");
+                let robot = self.robot.as_mut().expect("checked");
                 if robot.stop_rule().is_some() {
                     self.decided = true;
                     self.radio(Message::Stop {

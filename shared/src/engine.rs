@@ -116,7 +116,7 @@ fn run_grid(
             }
         }
         // Step 7: one robot's stop is broadcast to all (step 8).
-        let stop = robots.iter().find_map(|r| r.stop_rule());
+        let stop = robots.iter_mut().find_map(|r| r.stop_rule());
         if stop.is_some() || rounds >= cfg.max_rounds {
             break stop;
         }

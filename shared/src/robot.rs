@@ -193,7 +193,7 @@ impl<'g> Robot<'g> {
     }
 
     /// Steps 7 (rules 3/4), evaluated once the maps are exchanged.
-    pub fn stop_rule(&self) -> Option<Stop> {
+    pub fn stop_rule(&mut self) -> Option<Stop> {
         if self.cfg.situation == Situation::One && self.map.targets.count() >= self.cfg.targets_total {
             return Some(Stop::AllTargets);
         }
@@ -204,35 +204,10 @@ impl<'g> Robot<'g> {
         // unvisited vertices off; those can never be visited and must not
         // keep the search going. Only with failures, so a failure-free run
         // decides exactly as before.
-        if !self.map.failed.is_empty() && !self.reachable_unvisited() {
+        if !self.map.failed.is_empty() && self.step_to_unvisited().is_none() {
             return Some(Stop::MapComplete);
         }
         None
-    }
-
-    /// Whether some unvisited vertex of the map is reachable from here over
-    /// known open edges without entering a failed robot's vertex.
-    fn reachable_unvisited(&self) -> bool {
-        let grid = self.grid;
-        let mut seen = vec![false; grid.len()];
-        for &(_, at) in &self.map.failed {
-            seen[at as usize] = true;
-        }
-        seen[self.pos as usize] = true;
-        let mut queue = vec![self.pos];
-        while let Some(v) = queue.pop() {
-            if !self.map.visited.get(v as usize) {
-                return true;
-            }
-            for (d, &w) in grid.neighbors(v)[..grid.degree()].iter().enumerate() {
-                if w == NONE || seen[w as usize] || !self.map.known.get(w as usize) || !self.map.edge_open(grid, v, d) {
-                    continue;
-                }
-                seen[w as usize] = true;
-                queue.push(w);
-            }
-        }
-        false
     }
 
     /// Sec. 4.2: robot `id`, standing on `at`, will never answer. It is no
@@ -360,7 +335,7 @@ impl<'g> Robot<'g> {
             }
         }
         if nu == 0 && self.cfg.policy == Policy::Escape {
-            if let Some(step) = self.escape_step() {
+            if let Some(step) = self.step_to_unvisited() {
                 if cands.contains(&step) {
                     return Some(step);
                 }
@@ -412,8 +387,9 @@ impl<'g> Robot<'g> {
     }
 
     /// The first step of a shortest path on the robot's own map to the
-    /// nearest known unvisited vertex, avoiding failed robots.
-    fn escape_step(&mut self) -> Option<VertexId> {
+    /// nearest known unvisited vertex, avoiding failed robots; `None` when no
+    /// unvisited vertex is reachable.
+    fn step_to_unvisited(&mut self) -> Option<VertexId> {
         let grid = self.grid;
         let n = grid.len();
         let bfs = &mut self.bfs;
