@@ -59,6 +59,24 @@ pub struct Sweep {
     pub robot_rounds: u64,
 }
 
+/// A bar of `len` runs with the elapsed and estimated remaining time on
+/// stderr when `show`; hidden (draws nothing) otherwise.
+pub fn progress_bar(len: u64, show: bool) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let b = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    b.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} runs, eta {eta}")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    // Redraw (elapsed, eta) even while no run finishes: single runs of a
+    // large scenario can take seconds.
+    b.enable_steady_tick(std::time::Duration::from_millis(200));
+    b
+}
+
 /// Whether to draw a progress bar: only for a person watching a terminal.
 pub fn stderr_is_terminal() -> bool {
     std::io::stderr().is_terminal()
@@ -210,20 +228,7 @@ impl Plan<'_> {
     /// output does not depend on scheduling.
     fn execute(&self, runner: &Runner, situation: Situation, opts: &ExperimentOptions) -> Vec<RunRecord> {
         let jobs = self.jobs();
-        let bar = if opts.progress {
-            let b = ProgressBar::with_draw_target(Some(jobs.len() as u64), ProgressDrawTarget::stderr());
-            b.set_style(
-                ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} runs, eta {eta}")
-                    .expect("static template")
-                    .progress_chars("=> "),
-            );
-            // Redraw (elapsed, eta) even while no run finishes: single runs
-            // of a large scenario can take seconds.
-            b.enable_steady_tick(std::time::Duration::from_millis(200));
-            b
-        } else {
-            ProgressBar::hidden()
-        };
+        let bar = progress_bar(jobs.len() as u64, opts.progress);
         let records = jobs
             .par_iter()
             .map(|&(a, r, k)| {

@@ -12,7 +12,7 @@ use std::os::unix::process::CommandExt;
 use std::path::PathBuf;
 use std::process::{Child, ChildStdout, Command};
 use std::sync::mpsc::Sender;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 /// What the orchestrator's main loop waits for.
@@ -102,6 +102,9 @@ pub fn read_lines(stdout: ChildStdout, tx: Sender<Event>) {
 }
 
 static SIGNAL_PIPE: OnceLock<i32> = OnceLock::new();
+/// Where the signal thread sends: the current run's channel (one process
+/// may do many runs, e.g. `experiment failures`).
+static SIGNAL_TX: Mutex<Option<Sender<Event>>> = Mutex::new(None);
 
 extern "C" fn on_signal(sig: libc::c_int) {
     if let Some(&fd) = SIGNAL_PIPE.get() {
@@ -114,48 +117,53 @@ extern "C" fn on_signal(sig: libc::c_int) {
 }
 
 /// Turns SIGINT and SIGTERM into [`Event::Signal`] on `tx` (a self-pipe
-/// read by a thread), for the rest of the process's life.
+/// read by a thread) until [`default_signals`]. A later call (the next run
+/// in the same process) redirects the events to its own `tx`.
 pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
-    let mut fds = [0i32; 2];
-    // SAFETY: pipe2 with a valid array; close-on-exec so children never hold it.
-    if unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC | libc::O_NONBLOCK) } != 0 {
-        return Err(format!(
-            "cannot create a pipe: {}",
-            std::io::Error::last_os_error()
-        ));
-    }
-    let (read_fd, write_fd) = (fds[0], fds[1]);
-    // The reading end blocks; only the handler's end must not.
-    // SAFETY: fcntl on a descriptor we own.
-    unsafe {
-        let flags = libc::fcntl(read_fd, libc::F_GETFL);
-        libc::fcntl(read_fd, libc::F_SETFL, flags & !libc::O_NONBLOCK);
-    }
-    if SIGNAL_PIPE.set(write_fd).is_err() {
-        // Already installed (a second run in one process, in tests): a
-        // second reader would race the first for the bytes.
-        // SAFETY: closing descriptors we own.
+    *SIGNAL_TX.lock().unwrap_or_else(|e| e.into_inner()) = Some(tx);
+    if SIGNAL_PIPE.get().is_none() {
+        let mut fds = [0i32; 2];
+        // SAFETY: pipe2 with a valid array; close-on-exec so children never hold it.
+        if unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC | libc::O_NONBLOCK) } != 0 {
+            return Err(format!(
+                "cannot create a pipe: {}",
+                std::io::Error::last_os_error()
+            ));
+        }
+        let (read_fd, write_fd) = (fds[0], fds[1]);
+        // The reading end blocks; only the handler's end must not.
+        // SAFETY: fcntl on a descriptor we own.
         unsafe {
-            libc::close(read_fd);
-            libc::close(write_fd);
+            let flags = libc::fcntl(read_fd, libc::F_GETFL);
+            libc::fcntl(read_fd, libc::F_SETFL, flags & !libc::O_NONBLOCK);
         }
-        return Ok(());
-    }
-    std::thread::spawn(move || loop {
-        let mut b = 0u8;
-        // SAFETY: read(2) into a local byte.
-        let n = unsafe { libc::read(read_fd, &mut b as *mut u8 as *mut libc::c_void, 1) };
-        if n == 1 {
-            if tx.send(Event::Signal(b as i32)).is_err() {
-                return;
+        if SIGNAL_PIPE.set(write_fd).is_err() {
+            // Another thread installed it first: a second reader would race
+            // the first for the bytes.
+            // SAFETY: closing descriptors we own.
+            unsafe {
+                libc::close(read_fd);
+                libc::close(write_fd);
             }
-        } else if n < 0 && std::io::Error::last_os_error().kind() == std::io::ErrorKind::Interrupted
-        {
-            continue;
         } else {
-            return;
+            std::thread::spawn(move || loop {
+                let mut b = 0u8;
+                // SAFETY: read(2) into a local byte.
+                let n = unsafe { libc::read(read_fd, &mut b as *mut u8 as *mut libc::c_void, 1) };
+                if n == 1 {
+                    if let Some(tx) = SIGNAL_TX.lock().unwrap_or_else(|e| e.into_inner()).as_ref() {
+                        let _ = tx.send(Event::Signal(b as i32));
+                    }
+                } else if n < 0
+                    && std::io::Error::last_os_error().kind() == std::io::ErrorKind::Interrupted
+                {
+                    continue;
+                } else {
+                    return;
+                }
+            });
         }
-    });
+    }
     for sig in [libc::SIGINT, libc::SIGTERM] {
         // SAFETY: installing a handler that only calls write(2).
         unsafe {

@@ -15,8 +15,10 @@ use gridswarm::policy::Policy;
 use gridswarm_orchestrator::experiment::{DEFAULT_MAX_ROUNDS, 
     self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
 };
+use gridswarm_orchestrator::failures::{self, FailuresOptions};
 use gridswarm_orchestrator::grids::{self, GridsOptions};
 use gridswarm_orchestrator::robots::{RobotCounts, MAX_ROBOTS};
+use gridswarm_orchestrator::scale::{self, ScaleOptions};
 use gridswarm_orchestrator::simulate::{self, SimulateOptions};
 use gridswarm_orchestrator::{check, Error};
 
@@ -59,12 +61,16 @@ enum Command {
         max_rounds: u32,
     },
     /// The Monte Carlo sweep of Fig. 7 and its claims; with --grids, the
-    /// lattice comparison of Sec. 3 instead.
+    /// lattice comparison of Sec. 3 instead; `failures` and `scale` for the
+    /// distributed engine.
     ///
     /// Writes results.csv, runs.csv, fig7.svg, claims.txt, summary.json and
     /// report.html (grids.csv and grids.html with --grids) in --out, and
     /// prints the table and claims.
+    #[command(args_conflicts_with_subcommands = true)]
     Experiment {
+        #[command(subcommand)]
+        kind: Option<ExperimentKind>,
         /// Built-in scenario (paper, open, cave, large) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
@@ -149,6 +155,84 @@ enum Command {
     },
 }
 
+/// The experiments on the distributed engine (`gridswarm experiment KIND`).
+#[derive(Subcommand, Debug)]
+enum ExperimentKind {
+    /// Distributed runs with 0, 1, 2, ... robots SIGKILLed at random rounds:
+    /// search time, completion, collisions and detection delay against the
+    /// number killed.
+    ///
+    /// Writes failures.csv, failures-runs.csv, failures.svg and report.html
+    /// in --out and prints the table.
+    Failures {
+        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        #[arg(long, default_value = "paper")]
+        scenario: String,
+        /// repulsive, sequential, ru or escape (grid policies only).
+        #[arg(long, default_value = "repulsive")]
+        algorithm: Policy,
+        /// Number of robots (the paper's Fig. 7 goes up to 13).
+        #[arg(long, default_value_t = failures::DEFAULT_ROBOTS, value_parser = clap::value_parser!(u32).range(1..=gridswarm::ipc::MAX_ROBOTS as i64))]
+        robots: u32,
+        /// Numbers of robots to kill: `0-3`, `2` or `0,2,4`.
+        #[arg(long, default_value = failures::DEFAULT_KILLED)]
+        killed: failures::Killed,
+        /// Runs per number killed.
+        #[arg(long, default_value_t = failures::DEFAULT_RUNS, value_parser = clap::value_parser!(u32).range(1..))]
+        runs: u32,
+        /// Base seed; run r with k killed has seed derive(derive(seed, k), r).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// 1: the number of targets is known; 2: it is not [default: the scenario's].
+        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+        situation: Option<u8>,
+        /// A robot silent this long, with nothing it waits for missing, is declared failed.
+        #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
+        suspect_ms: u64,
+        /// A run not stopped after this many rounds ends incomplete.
+        #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
+        max_rounds: u32,
+        /// Output directory (created if missing).
+        #[arg(long, default_value = failures::DEFAULT_OUT)]
+        out: PathBuf,
+    },
+    /// Distributed runs at growing robot counts: wall time per round
+    /// (p50/p99), start-up and memory against N, next to the in-process
+    /// engine timed on the same runs.
+    ///
+    /// Writes scale.csv, scale-runs.csv, scale.svg and report.html in --out
+    /// and prints the table.
+    Scale {
+        /// Robot counts: `13,50,100,200`, `5` or `3-6`.
+        #[arg(long, default_value = scale::DEFAULT_ROBOTS)]
+        robots: RobotCounts,
+        /// Runs per robot count.
+        #[arg(long, default_value_t = scale::DEFAULT_RUNS, value_parser = clap::value_parser!(u32).range(1..))]
+        runs: u32,
+        /// Base seed; run r with N robots has seed derive(derive(seed, N), r).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Scenario for every count [default: paper up to 13 robots, large above].
+        #[arg(long)]
+        scenario: Option<String>,
+        /// repulsive, sequential, ru or escape (grid policies only).
+        #[arg(long, default_value = "repulsive")]
+        algorithm: Policy,
+        /// 1: the number of targets is known; 2: it is not [default: the scenario's].
+        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+        situation: Option<u8>,
+        /// A robot silent this long, with nothing it waits for missing, is declared failed.
+        #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
+        suspect_ms: u64,
+        /// A run not stopped after this many rounds ends incomplete.
+        #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
+        max_rounds: u32,
+        /// Output directory (created if missing).
+        #[arg(long, default_value = scale::DEFAULT_OUT)]
+        out: PathBuf,
+    },
+}
+
 /// Writes to stdout without `print!`'s panic on a closed pipe
 /// (`gridswarm experiment | head` must not end in a panic).
 fn emit(text: &str) {
@@ -158,6 +242,54 @@ fn emit(text: &str) {
 
 fn situation(n: Option<u8>) -> Option<Situation> {
     n.and_then(Situation::from_number)
+}
+
+fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
+    let progress = experiment::stderr_is_terminal();
+    Ok(match kind {
+        ExperimentKind::Failures {
+            scenario,
+            algorithm,
+            robots,
+            killed,
+            runs,
+            seed,
+            situation: s,
+            suspect_ms,
+            max_rounds,
+            out,
+        } => {
+            let opts = FailuresOptions {
+                scenario,
+                algorithm,
+                robots: Some(robots as usize),
+                killed: killed.0,
+                runs,
+                seed,
+                situation: situation(s),
+                suspect_ms,
+                max_rounds,
+                out,
+                progress,
+            };
+            failures::run(&opts)?.1
+        }
+        ExperimentKind::Scale { robots, runs, seed, scenario, algorithm, situation: s, suspect_ms, max_rounds, out } => {
+            let opts = ScaleOptions {
+                robots: robots.0,
+                runs,
+                seed,
+                scenario,
+                algorithm,
+                situation: situation(s),
+                suspect_ms,
+                max_rounds,
+                out,
+                progress,
+            };
+            scale::run(&opts)?.1
+        }
+    })
 }
 
 fn run(cli: Cli) -> Result<ExitCode, Error> {
@@ -175,6 +307,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             };
             emit(&simulate::simulate(&opts)?);
         }
+        Command::Experiment { kind: Some(kind), .. } => emit(&experiment_kind(kind)?),
         Command::Experiment { scenario, out, grids: true, .. } => {
             let (_, text) = grids::run(&GridsOptions { scenario, out })?;
             emit(&text);
@@ -189,6 +322,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             out,
             max_rounds,
             grids: false,
+            kind: None,
         } => {
             let opts = ExperimentOptions {
                 scenario,

@@ -295,6 +295,58 @@ fn sweep_stale_temp() {
 
 /// Runs once; returns the text for stdout.
 pub fn run(opts: &RunOptions) -> Result<String> {
+    let done = perform(opts, false)?;
+    if opts.json {
+        return Ok(format!(
+            "{}\n",
+            serde_json::to_string(&done.summary).expect("a JSON value serialises")
+        ));
+    }
+    Ok(text_summary(
+        &done.scenario,
+        &done.result,
+        &done.report,
+        &done.injections,
+        &done.applied,
+        &done.summary,
+        &done.written,
+    ))
+}
+
+/// Runs once as a library call and prints nothing: returns the summary
+/// object `run --json` prints (and `--out` writes, if set). Warnings that
+/// `run` prints to stderr are in the summary's `warnings` array instead.
+/// `opts.json` is ignored.
+pub fn execute(opts: &RunOptions) -> Result<Value> {
+    let done = perform(opts, true)?;
+    let mut summary = done.summary;
+    summary["warnings"] = json!(done.warnings);
+    Ok(summary)
+}
+
+/// What one run produced, for [`run`]'s text and [`execute`]'s summary.
+struct Done {
+    scenario: gridswarm::scenario::Scenario,
+    result: gridswarm::outcome::RunResult,
+    report: RunReport,
+    injections: Vec<Injection>,
+    applied: Vec<bool>,
+    summary: Value,
+    written: Vec<PathBuf>,
+    /// Warnings not printed (`quiet`), in order.
+    warnings: Vec<String>,
+}
+
+/// One run. `quiet`: collect the warnings instead of printing them.
+fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
+    let mut warnings: Vec<String> = Vec::new();
+    let mut warn = |w: String| {
+        if quiet {
+            warnings.push(w);
+        } else {
+            eprintln!("{w}");
+        }
+    };
     if !opts.algorithm.on_grid() {
         return Err(Error::Input(format!(
             "`run` drives one process per robot on the grid; `{}` moves off the grid (use `simulate --algorithm {}`)",
@@ -324,7 +376,7 @@ pub fn run(opts: &RunOptions) -> Result<String> {
     let world = scenario.world();
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
-        eprintln!("{w}");
+        warn(w);
     }
     let world_bin = launch::binary("world-server").map_err(run_err)?;
     let agent_bin = launch::binary("robot-agent").map_err(run_err)?;
@@ -541,10 +593,10 @@ pub fn run(opts: &RunOptions) -> Result<String> {
     launch::default_signals();
     let leftovers = ipc::run_files(&prefix, &procs.root);
     if !leftovers.is_empty() {
-        eprintln!(
+        warn(format!(
             "warning: {} file(s) of run {prefix} could not be removed",
             leftovers.len()
-        );
+        ));
     }
     let injected_robot = |r: usize| {
         injections
@@ -557,14 +609,14 @@ pub fn run(opts: &RunOptions) -> Result<String> {
         .collect();
     if !agent_errors.is_empty() {
         let log = fs::read_to_string(&procs.agent_log).unwrap_or_default();
-        eprintln!(
+        warn(format!(
             "warning: robot-agent(s) {:?} did not end cleanly{}",
             agent_errors,
             log.lines()
                 .next()
                 .map(|l| format!(": {l}"))
                 .unwrap_or_default()
-        );
+        ));
     }
 
     // The result, in the in-process engine's shape.
@@ -691,21 +743,16 @@ pub fn run(opts: &RunOptions) -> Result<String> {
         Some(dir) => rundir::write_run_dir(dir, &record)?,
         None => Vec::new(),
     };
-    if opts.json {
-        return Ok(format!(
-            "{}\n",
-            serde_json::to_string(&summary).expect("a JSON value serialises")
-        ));
-    }
-    Ok(text_summary(
-        &scenario,
-        &result,
-        &report,
-        &injections,
-        &applied,
-        &summary,
-        &written,
-    ))
+    Ok(Done {
+        scenario,
+        result,
+        report,
+        injections,
+        applied,
+        summary,
+        written,
+        warnings,
+    })
 }
 
 fn text_summary(

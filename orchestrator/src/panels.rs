@@ -1,0 +1,223 @@
+//! Line plots side by side in one SVG, in the style of `fig7.svg`
+//! ([`crate::plot`]): for the failure and scaling experiments, whose
+//! figures show several quantities against one variable.
+
+use plotters::prelude::*;
+
+/// Series colours, in order (the same palette as Fig. 7).
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(0x1f, 0x77, 0xb4),
+    RGBColor(0xff, 0x7f, 0x0e),
+    RGBColor(0x2c, 0xa0, 0x2c),
+    RGBColor(0xd6, 0x27, 0x28),
+    RGBColor(0x94, 0x67, 0xbd),
+    RGBColor(0x8c, 0x56, 0x4b),
+];
+
+/// One line: points `(x, y)` with an optional error half-width each.
+#[derive(Clone, Debug)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64, f64)>,
+}
+
+impl Series {
+    pub fn new(label: impl Into<String>, points: impl IntoIterator<Item = (f64, Option<f64>)>) -> Self {
+        Series::with_err(label, points.into_iter().map(|(x, y)| (x, y, None)))
+    }
+
+    /// Points without a value are left out.
+    pub fn with_err(
+        label: impl Into<String>,
+        points: impl IntoIterator<Item = (f64, Option<f64>, Option<f64>)>,
+    ) -> Self {
+        Series {
+            label: label.into(),
+            points: points.into_iter().filter_map(|(x, y, e)| y.map(|y| (x, y, e.unwrap_or(0.0)))).collect(),
+        }
+    }
+}
+
+/// One chart of the figure.
+#[derive(Clone, Debug)]
+pub struct Panel {
+    pub title: String,
+    pub x_desc: String,
+    pub y_desc: String,
+    pub series: Vec<Series>,
+    /// Logarithmic y axis (decades labelled; values must be positive).
+    pub log_y: bool,
+    /// Fixed y range, e.g. `0..=1` for a rate; from the data when `None`.
+    pub y_range: Option<(f64, f64)>,
+}
+
+impl Panel {
+    pub fn new(title: &str, x_desc: &str, y_desc: &str, series: Vec<Series>) -> Self {
+        Panel { title: title.into(), x_desc: x_desc.into(), y_desc: y_desc.into(), series, log_y: false, y_range: None }
+    }
+}
+
+fn nice(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else if x.abs() >= 100.0 {
+        format!("{x:.0}")
+    } else if x.abs() >= 1.0 {
+        let s = format!("{x:.1}");
+        s.strip_suffix(".0").map(str::to_string).unwrap_or(s)
+    } else {
+        format!("{x:.2}")
+    }
+}
+
+/// `10^e` as a tick label: `1000`, `1`, `0.01`, `1e-5`.
+fn decade(e: i32) -> String {
+    match e {
+        0..=6 => format!("{}", 10u64.pow(e as u32)),
+        -4..=-1 => format!("{:.*}", (-e) as usize, 10f64.powi(e)),
+        _ => format!("1e{e}"),
+    }
+}
+
+/// Draws the panels in a row under a common `title`; `xs` are the x values
+/// every panel labels (the variable of the experiment).
+pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, String> {
+    let width = 460 * panels.len().max(1) as u32;
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (width, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let root = root.titled(title, ("sans-serif", 20)).map_err(|e| e.to_string())?;
+        let areas = root.split_evenly((1, panels.len().max(1)));
+        let (mut x0, mut x1) =
+            (xs.iter().copied().fold(f64::INFINITY, f64::min), xs.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+        if !x0.is_finite() {
+            (x0, x1) = (0.0, 1.0);
+        }
+        let pad = ((x1 - x0) * 0.05).max(0.5);
+        for (panel, area) in panels.iter().zip(&areas) {
+            let tf = |y: f64| if panel.log_y { y.max(1e-9).log10() } else { y };
+            let ys: Vec<f64> = panel
+                .series
+                .iter()
+                .flat_map(|s| s.points.iter().flat_map(|&(_, y, e)| [tf(y + e), tf((y - e).max(1e-9))]))
+                .collect();
+            let (mut y0, mut y1) = match panel.y_range {
+                Some((a, b)) => (tf(a), tf(b)),
+                None => (
+                    ys.iter().copied().fold(f64::INFINITY, f64::min),
+                    ys.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                ),
+            };
+            if !y0.is_finite() {
+                (y0, y1) = (0.0, 1.0);
+            }
+            if panel.log_y {
+                // Whole decades, so the labelled ticks are powers of ten.
+                (y0, y1) = (y0.floor(), y1.ceil().max(y0.floor() + 1.0));
+            } else if panel.y_range.is_none() {
+                y0 = y0.min(0.0);
+                y1 = if y1 > y0 { y1 + (y1 - y0) * 0.08 } else { y0 + 1.0 };
+            }
+            let mut chart = ChartBuilder::on(area)
+                .caption(&panel.title, ("sans-serif", 16))
+                .margin(12)
+                .x_label_area_size(42)
+                .y_label_area_size(62)
+                .build_cartesian_2d((x0 - pad)..(x1 + pad), y0..y1)
+                .map_err(|e| e.to_string())?;
+            let decades = (y1 - y0).round() as usize;
+            let log_y = panel.log_y;
+            chart
+                .configure_mesh()
+                .x_desc(&panel.x_desc)
+                .y_desc(&panel.y_desc)
+                .axis_desc_style(("sans-serif", 14))
+                .label_style(("sans-serif", 12))
+                .x_labels(((x1 - x0).round() as usize).clamp(1, 10) + 1)
+                .x_label_formatter(&|x| {
+                    if (x - x.round()).abs() < 1e-6 {
+                        format!("{}", x.round() as i64)
+                    } else {
+                        String::new()
+                    }
+                })
+                .y_labels(if log_y { decades + 1 } else { 8 })
+                .y_label_formatter(&move |y| {
+                    if !log_y {
+                        nice(*y)
+                    } else if (y - y.round()).abs() < 1e-6 {
+                        decade(y.round() as i32)
+                    } else {
+                        String::new()
+                    }
+                })
+                .light_line_style(WHITE.mix(0.0))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            for (k, s) in panel.series.iter().enumerate() {
+                let c = PALETTE[k % PALETTE.len()];
+                let pts: Vec<(f64, f64, f64)> = s.points.clone();
+                chart
+                    .draw_series(LineSeries::new(pts.iter().map(|&(x, y, _)| (x, tf(y))), c.stroke_width(2)))
+                    .map_err(|e| e.to_string())?
+                    .label(&s.label)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+                chart
+                    .draw_series(pts.iter().map(|&(x, y, _)| Circle::new((x, tf(y)), 3, c.filled())))
+                    .map_err(|e| e.to_string())?;
+                chart
+                    .draw_series(pts.iter().filter(|p| p.2 > 0.0).map(|&(x, y, e)| {
+                        PathElement::new(vec![(x, tf((y - e).max(1e-9))), (x, tf(y + e))], c.stroke_width(1))
+                    }))
+                    .map_err(|e| e.to_string())?;
+            }
+            if !panel.series.is_empty() {
+                chart
+                    .configure_series_labels()
+                    .position(SeriesLabelPosition::UpperLeft)
+                    .background_style(WHITE.mix(0.9))
+                    .border_style(BLACK)
+                    .label_font(("sans-serif", 13))
+                    .draw()
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decades() {
+        assert_eq!(decade(3), "1000");
+        assert_eq!(decade(0), "1");
+        assert_eq!(decade(-3), "0.001");
+        assert_eq!(decade(-5), "1e-5");
+        assert_eq!(decade(7), "1e7");
+    }
+
+    #[test]
+    fn draws_valid_svg_with_labels() {
+        let mut log =
+            Panel::new("wall", "robots", "ms", vec![Series::new("p50", [(13.0, Some(0.2)), (50.0, Some(3.0))])]);
+        log.log_y = true;
+        let lin = Panel::new(
+            "time",
+            "killed",
+            "s",
+            vec![Series::with_err("mean", [(0.0, Some(600.0), Some(40.0)), (1.0, None, None)])],
+        );
+        let empty = Panel::new("none", "x", "y", vec![]);
+        let svg = panels_svg("title here", &[log, lin, empty], &[0.0, 1.0, 13.0, 50.0]).unwrap();
+        let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+        let texts: Vec<&str> = doc.descendants().filter(|n| n.has_tag_name("text")).filter_map(|n| n.text()).collect();
+        for t in ["title here", "wall", "p50", "mean", "killed", "robots"] {
+            assert!(texts.iter().any(|x| x.contains(t)), "{t} missing from {texts:?}");
+        }
+    }
+}
