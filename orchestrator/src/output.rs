@@ -156,3 +156,27 @@ mod tests {
         assert_eq!(fixed(12.3456789), "12.345679");
     }
 }
+
+/// The two lines that open a run's report on the terminal, for either
+/// engine: what was run, then how it ended. `engine` follows the first line
+/// (e.g. ": one process per robot"); `extra` goes before the coverage.
+pub fn headline(scenario: &Scenario, result: &RunResult, engine: &str, extra: &str) -> String {
+    format!(
+        "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}{engine}\n\
+         {} after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; {extra}coverage {}\n",
+        scenario.name,
+        scenario.grid.name(),
+        result.algorithm.name(),
+        result.algorithm.paper_label(),
+        result.robots,
+        result.seed,
+        result.situation,
+        if result.complete { "complete" } else { "INCOMPLETE (round limit)" },
+        result.rounds,
+        result.search_time_s,
+        result.targets_found,
+        result.targets_total,
+        result.collisions,
+        result.coverage.map(|c| format!("{c:.4}")).unwrap_or_else(|| "not measured".into())
+    )
+}

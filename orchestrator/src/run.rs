@@ -764,26 +764,11 @@ fn text_summary(
     summary: &Value,
     written: &[PathBuf],
 ) -> String {
-    let mut text = format!(
-        "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}: one process per robot\n",
-        scenario.name,
-        scenario.grid.name(),
-        result.algorithm.name(),
-        result.algorithm.paper_label(),
-        result.robots,
-        result.seed,
-        result.situation
-    );
-    text += &format!(
-        "{} after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; refused moves {}; coverage {}\n",
-        if result.complete { "complete" } else { "INCOMPLETE" },
-        result.rounds,
-        result.search_time_s,
-        result.targets_found,
-        result.targets_total,
-        result.collisions,
-        report.refused_moves,
-        result.coverage.map(|c| format!("{c:.4}")).unwrap_or_else(|| "not measured".into())
+    let mut text = crate::output::headline(
+        scenario,
+        result,
+        ": one process per robot",
+        &format!("refused moves {}; ", report.refused_moves),
     );
     let ms = |v: &Value| {
         v.as_f64()

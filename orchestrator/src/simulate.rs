@@ -70,26 +70,7 @@ pub fn simulate(opts: &SimulateOptions) -> Result<String> {
     if opts.json {
         return Ok(format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")));
     }
-    let mut text = format!(
-        "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}\n",
-        scenario.name,
-        scenario.grid.name(),
-        result.algorithm.name(),
-        result.algorithm.paper_label(),
-        result.robots,
-        result.seed,
-        result.situation
-    );
-    text += &format!(
-        "{} after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; coverage {}\n",
-        if result.complete { "complete" } else { "INCOMPLETE (round limit)" },
-        result.rounds,
-        result.search_time_s,
-        result.targets_found,
-        result.targets_total,
-        result.collisions,
-        result.coverage.map(|c| format!("{:.4}", c)).unwrap_or_else(|| "not measured".into())
-    );
+    let mut text = output::headline(&scenario, &result, "", "");
     for p in written {
         text += &format!("wrote {}\n", p.display());
     }
