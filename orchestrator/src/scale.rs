@@ -26,7 +26,7 @@ use crate::failures::text_table;
 use crate::panels::{self, Panel, Series};
 use crate::report::{self, Block, Report, Section, Table};
 use crate::run::{self, RunOptions};
-use crate::stats::mean;
+use crate::stats::median;
 use crate::{check, output};
 
 pub const DEFAULT_ROBOTS: &str = "13,50,100,200";
@@ -122,7 +122,8 @@ pub struct ScaleRow {
 
 impl ScaleRow {
     pub fn of(robots: usize, scenario: &str, runs: &[ScaleRun]) -> Self {
-        let m = |f: &dyn Fn(&ScaleRun) -> Option<f64>| mean(&runs.iter().filter_map(f).collect::<Vec<_>>());
+        // Medians: one slow run on a shared machine should not move the row.
+        let m = |f: &dyn Fn(&ScaleRun) -> Option<f64>| median(&runs.iter().filter_map(f).collect::<Vec<_>>());
         let p50 = m(&|r| r.round_wall_p50_ms);
         let inproc = m(&|r| Some(r.inproc_ms_per_round));
         ScaleRow {
@@ -147,7 +148,7 @@ impl ScaleRow {
     }
 }
 
-pub const CSV_HEADER: &str = "robots,scenario,runs,completed_runs,mean_rounds,round_wall_p50_ms,round_wall_p99_ms,\
+pub const CSV_HEADER: &str = "robots,scenario,runs,completed_runs,median_rounds,round_wall_p50_ms,round_wall_p99_ms,\
                               inproc_ms_per_round,ratio_p50_to_inproc,world_ready_ms,agents_spawned_ms,hello_ms,\
                               agent_peak_rss_max_kib,agent_peak_rss_p50_kib,world_peak_rss_kib,world_fds,\
                               inproc_same_rounds";
@@ -270,7 +271,7 @@ fn figure(rows: &[ScaleRow], title: &str) -> std::result::Result<String, String>
         vec![
             Series::new("distributed p50", rows.iter().map(|r| (x(r), r.round_wall_p50_ms))),
             Series::new("distributed p99", rows.iter().map(|r| (x(r), r.round_wall_p99_ms))),
-            Series::new("in-process (mean)", rows.iter().map(|r| (x(r), r.inproc_ms_per_round))),
+            Series::new("in-process (median)", rows.iter().map(|r| (x(r), r.inproc_ms_per_round))),
         ],
     );
     wall.log_y = true;
@@ -465,7 +466,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
              no trajectories or coverage recorded; repeated until {} ms passed; wall time / rounds",
             INPROC_MIN_WALL.as_millis()
         ),
-        "statistics": "means over the runs of each count",
+        "statistics": "medians over the runs of each count",
     });
     let tab = table(&rows);
     let mut notes = Vec::new();
