@@ -382,28 +382,18 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
     for &k in &opts.killed {
         for r in 0..opts.runs {
             let seed = run_seed(opts.seed, k, r);
-            let ro = RunOptions {
-                scenario: opts.scenario.clone(),
-                algorithm: opts.algorithm,
-                robots: Some(robots),
+            let ro = RunOptions::for_experiment(
+                opts.scenario.clone(),
+                opts.algorithm,
+                robots,
                 seed,
-                situation: Some(scenario.situation),
-                kills: vec![],
-                freezes: vec![],
-                kill_random: k,
-                suspect_ms: opts.suspect_ms,
-                out: None,
-                json: true,
-                max_rounds: opts.max_rounds,
-                slow: vec![],
-            };
-            let v = run::execute(&ro).map_err(|e| {
-                bar.finish_and_clear();
-                Error::Run(format!("run {r} with {k} killed (seed {seed}): {e}"))
-            })?;
-            for w in v["warnings"].as_array().into_iter().flatten().filter_map(Value::as_str) {
-                warnings.push(format!("{w} (run {r} with {k} killed, seed {seed})"));
-            }
+                scenario.situation,
+                k,
+                opts.suspect_ms,
+                opts.max_rounds,
+            );
+            let what = format!("run {r} with {k} killed, seed {seed}");
+            let v = run::execute_as(&ro, &what, &mut warnings).inspect_err(|_| bar.finish_and_clear())?;
             runs.push(FailureRun::from_summary(k, r, seed, &v));
             bar.inc(1);
         }

@@ -128,6 +128,38 @@ pub struct RunOptions {
     pub slow: Vec<(usize, u32)>,
 }
 
+impl RunOptions {
+    /// A run for an experiment: no files, nothing printed, and no failures
+    /// but `kill_random` robots killed at random rounds.
+    #[allow(clippy::too_many_arguments)]
+    pub fn for_experiment(
+        scenario: String,
+        algorithm: Policy,
+        robots: usize,
+        seed: u64,
+        situation: Situation,
+        kill_random: usize,
+        suspect_ms: u64,
+        max_rounds: u32,
+    ) -> Self {
+        RunOptions {
+            scenario,
+            algorithm,
+            robots: Some(robots),
+            seed,
+            situation: Some(situation),
+            kills: vec![],
+            freezes: vec![],
+            kill_random,
+            suspect_ms,
+            out: None,
+            json: true,
+            max_rounds,
+            slow: vec![],
+        }
+    }
+}
+
 /// The injection schedule: the given kills and freezes, and `kill_random`
 /// more kills of distinct robots at rounds 1..=[`RANDOM_ROUNDS`], drawn from
 /// the seed (the same seed, the same schedule). One injection per robot.
@@ -322,6 +354,17 @@ pub fn execute(opts: &RunOptions) -> Result<Value> {
     let mut summary = done.summary;
     summary["warnings"] = json!(done.warnings);
     Ok(summary)
+}
+
+/// One run of an experiment, as [`execute`]. `what` names the run (e.g.
+/// `run 3 with 2 killed, seed 9`): an error says which run failed, and the
+/// run's warnings are added to `warnings` tagged with it.
+pub fn execute_as(opts: &RunOptions, what: &str, warnings: &mut Vec<String>) -> Result<Value> {
+    let v = execute(opts).map_err(|e| Error::Run(format!("{what}: {e}")))?;
+    for w in v["warnings"].as_array().into_iter().flatten().filter_map(Value::as_str) {
+        warnings.push(format!("{w} ({what})"));
+    }
+    Ok(v)
 }
 
 /// What one run produced, for [`run`]'s text and [`execute`]'s summary.

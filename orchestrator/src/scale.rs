@@ -368,28 +368,18 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         let (scenario, world) = &worlds[&name];
         for r in 0..opts.runs {
             let seed = run_seed(opts.seed, n, r);
-            let ro = RunOptions {
-                scenario: name.clone(),
-                algorithm: opts.algorithm,
-                robots: Some(n),
+            let ro = RunOptions::for_experiment(
+                name.clone(),
+                opts.algorithm,
+                n,
                 seed,
-                situation: Some(scenario.situation),
-                kills: vec![],
-                freezes: vec![],
-                kill_random: 0,
-                suspect_ms: opts.suspect_ms,
-                out: None,
-                json: true,
-                max_rounds: opts.max_rounds,
-                slow: vec![],
-            };
-            let v = run::execute(&ro).map_err(|e| {
-                bar.finish_and_clear();
-                Error::Run(format!("run {r} with {n} robots (seed {seed}): {e}"))
-            })?;
-            for w in v["warnings"].as_array().into_iter().flatten().filter_map(Value::as_str) {
-                warnings.push(format!("{w} (run {r} with {n} robots, seed {seed})"));
-            }
+                scenario.situation,
+                0,
+                opts.suspect_ms,
+                opts.max_rounds,
+            );
+            let what = format!("run {r} with {n} robots, seed {seed}");
+            let v = run::execute_as(&ro, &what, &mut warnings).inspect_err(|_| bar.finish_and_clear())?;
             let mut cfg = RunConfig::new(opts.algorithm, seed, scenario.situation);
             cfg.max_rounds = opts.max_rounds;
             cfg.record_trajectories = false;
