@@ -119,9 +119,6 @@ enum Command {
         robots: Option<u32>,
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// 1: the number of targets is known; 2: it is not [default: the scenario's].
-        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
-        situation: Option<u8>,
         /// SIGKILL robot ROBOT at the start of round ROUND (repeatable).
         #[arg(long, value_name = "ROBOT@ROUND", value_parser = gridswarm_orchestrator::run::parse_kill)]
         kill: Vec<(usize, u32)>,
@@ -131,18 +128,14 @@ enum Command {
         /// SIGKILL K distinct robots at rounds 1..=20, drawn from the seed.
         #[arg(long, value_name = "K", default_value_t = 0)]
         kill_random: usize,
-        /// A robot silent this long, with nothing it waits for missing, is declared failed.
-        #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
-        suspect_ms: u64,
         /// Write summary.json, trajectories.jsonl, routes.svg (and the replay files) here.
         #[arg(long)]
         out: Option<PathBuf>,
         /// Print exactly one JSON object instead of the summary.
         #[arg(long)]
         json: bool,
-        /// A run not stopped after this many rounds ends incomplete.
-        #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u32).range(1..))]
-        max_rounds: u32,
+        #[command(flatten)]
+        distributed: Distributed,
         /// Testing: robot ROBOT takes MS milliseconds over each round's sensing.
         #[arg(long, hide = true, value_name = "ROBOT@MS", value_parser = gridswarm_orchestrator::run::parse_kill)]
         slow: Vec<(usize, u32)>,
@@ -183,15 +176,8 @@ enum ExperimentKind {
         /// Base seed; run r with k killed has seed derive(derive(seed, k), r).
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// 1: the number of targets is known; 2: it is not [default: the scenario's].
-        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
-        situation: Option<u8>,
-        /// A robot silent this long, with nothing it waits for missing, is declared failed.
-        #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
-        suspect_ms: u64,
-        /// A run not stopped after this many rounds ends incomplete.
-        #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
-        max_rounds: u32,
+        #[command(flatten)]
+        distributed: Distributed,
         /// Output directory (created if missing).
         #[arg(long, default_value = failures::DEFAULT_OUT)]
         out: PathBuf,
@@ -218,15 +204,8 @@ enum ExperimentKind {
         /// repulsive, sequential, ru or escape (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
-        /// 1: the number of targets is known; 2: it is not [default: the scenario's].
-        #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
-        situation: Option<u8>,
-        /// A robot silent this long, with nothing it waits for missing, is declared failed.
-        #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
-        suspect_ms: u64,
-        /// A run not stopped after this many rounds ends incomplete.
-        #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
-        max_rounds: u32,
+        #[command(flatten)]
+        distributed: Distributed,
         /// Output directory (created if missing).
         #[arg(long, default_value = scale::DEFAULT_OUT)]
         out: PathBuf,
@@ -244,6 +223,20 @@ fn situation(n: Option<u8>) -> Option<Situation> {
     n.and_then(Situation::from_number)
 }
 
+/// The settings every distributed run takes, whichever command starts it.
+#[derive(clap::Args, Debug)]
+struct Distributed {
+    /// 1: the number of targets is known; 2: it is not [default: the scenario's].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+    situation: Option<u8>,
+    /// A robot silent this long, with nothing it waits for missing, is declared failed.
+    #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
+    suspect_ms: u64,
+    /// A run not stopped after this many rounds ends incomplete.
+    #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
+    max_rounds: u32,
+}
+
 fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
     let progress = experiment::stderr_is_terminal();
     Ok(match kind {
@@ -254,9 +247,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
             killed,
             runs,
             seed,
-            situation: s,
-            suspect_ms,
-            max_rounds,
+            distributed: d,
             out,
         } => {
             let opts = FailuresOptions {
@@ -266,24 +257,24 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 killed: killed.0,
                 runs,
                 seed,
-                situation: situation(s),
-                suspect_ms,
-                max_rounds,
+                situation: situation(d.situation),
+                suspect_ms: d.suspect_ms,
+                max_rounds: d.max_rounds,
                 out,
                 progress,
             };
             failures::run(&opts)?.1
         }
-        ExperimentKind::Scale { robots, runs, seed, scenario, algorithm, situation: s, suspect_ms, max_rounds, out } => {
+        ExperimentKind::Scale { robots, runs, seed, scenario, algorithm, distributed: d, out } => {
             let opts = ScaleOptions {
                 robots: robots.0,
                 runs,
                 seed,
                 scenario,
                 algorithm,
-                situation: situation(s),
-                suspect_ms,
-                max_rounds,
+                situation: situation(d.situation),
+                suspect_ms: d.suspect_ms,
+                max_rounds: d.max_rounds,
                 out,
                 progress,
             };
@@ -346,14 +337,12 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             algorithm,
             robots,
             seed,
-            situation: s,
             kill,
             freeze,
             kill_random,
-            suspect_ms,
+            distributed: d,
             out,
             json,
-            max_rounds,
             slow,
         } => {
             let opts = gridswarm_orchestrator::run::RunOptions {
@@ -361,14 +350,14 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 algorithm,
                 robots: robots.map(|r| r as usize),
                 seed,
-                situation: situation(s),
+                situation: situation(d.situation),
                 kills: kill,
                 freezes: freeze,
                 kill_random,
-                suspect_ms,
+                suspect_ms: d.suspect_ms,
                 out,
                 json,
-                max_rounds,
+                max_rounds: d.max_rounds,
                 slow,
             };
             emit(&gridswarm_orchestrator::run::run(&opts)?);
