@@ -45,6 +45,23 @@ impl Bitset {
         self.words.iter_mut().for_each(|w| *w = 0);
     }
 
+    /// Sets bit `k`, growing the set when it is too small (sets whose size
+    /// a robot cannot know in advance, such as targets in situation 2).
+    pub fn set_growing(&mut self, k: usize) {
+        if k / 64 >= self.words.len() {
+            self.words.resize(k / 64 + 1, 0);
+        }
+        self.set(k);
+    }
+
+    /// `self |= other`, growing `self` to `other`'s size first if it is smaller.
+    pub fn union_growing(&mut self, other: &Bitset) -> bool {
+        if other.words.len() > self.words.len() {
+            self.words.resize(other.words.len(), 0);
+        }
+        self.union_with(other)
+    }
+
     /// `self |= other`; returns whether anything changed. Sizes must match.
     pub fn union_with(&mut self, other: &Bitset) -> bool {
         let mut changed = 0;

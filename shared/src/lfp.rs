@@ -485,6 +485,11 @@ fn run_inner(
         complete,
         robot_rounds: rounds as u64 * n as u64,
         trajectories,
+        round_end_times_s: Vec::new(),
+        protocol: crate::sim::ProtocolStats {
+            ended_by: if complete { "stop" } else { "max_rounds" }.to_string(),
+            ..Default::default()
+        },
     }
 }
 

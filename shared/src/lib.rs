@@ -2,8 +2,10 @@
 //!
 //! Layers, lowest first: [`geometry`] and [`lattice`] know nothing of robots;
 //! [`grid`] is the frame robots share; [`world`] is the ground truth only
-//! engines hold; [`robot`] is the decision core, with no I/O; [`engine`]
-//! drives robots in-process. See ARCHITECTURE.md.
+//! the simulated world holds; [`robot`] is the decision core and [`peer`]
+//! the robot's radio protocol on top of it, both with no I/O; [`sim`] is
+//! the world (clock, radio medium, bodies, faults); [`engine`] runs robots
+//! in-process. See ARCHITECTURE.md.
 
 pub mod bitset;
 pub mod geometry;
@@ -19,6 +21,9 @@ pub mod lfp;
 pub mod map;
 pub mod rng;
 pub mod robot;
+pub mod peer;
+pub mod sim;
+pub mod setup;
 pub mod referee;
 pub mod protocol;
 pub mod assumptions;

@@ -6,6 +6,7 @@ use crate::geometry::Point;
 use crate::lattice::Coord;
 use crate::params::Situation;
 use crate::policy::Policy;
+use crate::sim::{FaultKind, ProtocolStats, Radio};
 
 /// One run's settings beyond the world and the start vertices.
 #[derive(Clone, Debug)]
@@ -19,11 +20,34 @@ pub struct RunConfig {
     pub measure_coverage: bool,
     /// Keep every robot's pose of every round.
     pub record_trajectories: bool,
+    /// Radio impairments (grid policies).
+    pub radio: Radio,
+    /// Faults injected into robots (grid policies).
+    pub faults: Vec<crate::sim::Fault>,
 }
 
 impl RunConfig {
     pub fn new(policy: Policy, seed: u64, situation: Situation) -> Self {
-        RunConfig { policy, seed, situation, max_rounds: 100_000, measure_coverage: true, record_trajectories: true }
+        RunConfig {
+            policy,
+            seed,
+            situation,
+            max_rounds: 100_000,
+            measure_coverage: true,
+            record_trajectories: true,
+            radio: Radio::default(),
+            faults: Vec::new(),
+        }
+    }
+
+    /// Whether the run has faults or an imperfect radio.
+    pub fn is_faulty(&self) -> bool {
+        !self.faults.is_empty() || !self.radio.is_perfect()
+    }
+
+    /// Robots the faults crash or freeze.
+    pub fn failing_robots(&self) -> impl Iterator<Item = usize> + '_ {
+        self.faults.iter().filter(|f| matches!(f.kind, FaultKind::Crash | FaultKind::Freeze)).map(|f| f.robot)
     }
 }
 
@@ -42,9 +66,11 @@ pub struct RunResult {
     pub robots: usize,
     pub seed: u64,
     pub situation: u8,
-    /// Rounds played (moves made by the team).
+    /// Rounds played (slots in which the team moved), until every robot
+    /// stopped or the round limit.
     pub rounds: u32,
-    /// Simulated search time (READING.md "Time"), not wall time.
+    /// Simulated search time (READING.md "Time"), not wall time: until the
+    /// first stop that ends the search, or the end of the run without one.
     pub search_time_s: f64,
     pub targets_found: usize,
     pub targets_total: usize,
@@ -60,4 +86,10 @@ pub struct RunResult {
     /// (index `rounds` is where it ended). Empty unless recorded.
     #[serde(skip)]
     pub trajectories: Vec<Vec<Pose>>,
+    /// Simulated time at the end of every round (element `k` ends round `k`).
+    #[serde(skip)]
+    pub round_end_times_s: Vec<f64>,
+    /// The protocol's and the radio's counts (grid policies).
+    #[serde(default)]
+    pub protocol: ProtocolStats,
 }

@@ -28,6 +28,41 @@ pub struct Params {
     /// paper; 0.1 s is the project's choice for a Wi-Fi round trip plus a
     /// small computation.
     pub t_choice: f64,
+    /// The map exchange window at the start of every slot (s): robots
+    /// broadcast their maps, and choose with the maps heard by its end.
+    #[serde(default = "defaults::t_exchange")]
+    pub t_exchange: f64,
+    /// Radio latency of one frame, and the spacing of retransmissions (s).
+    #[serde(default = "defaults::t_hop")]
+    pub t_hop: f64,
+    /// How long a robot waits for a neighbour's choice, and then for the
+    /// choices that acknowledge its own, before it gives up on that
+    /// neighbour for the round and (if unsure) stays (s).
+    #[serde(default = "defaults::t_wait")]
+    pub t_wait: f64,
+    /// Extra copies of every frame a robot transmits (blind retransmission).
+    #[serde(default)]
+    pub retries: u32,
+    /// Slots in a row a robot expected in radio range may stay silent before
+    /// it is declared failed.
+    #[serde(default = "defaults::suspect_rounds")]
+    pub suspect_rounds: u32,
+}
+
+/// Defaults of the protocol's timing, for files written before they existed.
+mod defaults {
+    pub fn t_exchange() -> f64 {
+        0.05
+    }
+    pub fn t_hop() -> f64 {
+        0.002
+    }
+    pub fn t_wait() -> f64 {
+        3.0
+    }
+    pub fn suspect_rounds() -> u32 {
+        1
+    }
 }
 
 impl Params {
@@ -44,6 +79,11 @@ impl Params {
             t_rot: 1.25,
             t_trans: 4.5,
             t_choice: 0.1,
+            t_exchange: defaults::t_exchange(),
+            t_hop: defaults::t_hop(),
+            t_wait: defaults::t_wait(),
+            retries: 0,
+            suspect_rounds: defaults::suspect_rounds(),
         }
     }
 

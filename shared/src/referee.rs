@@ -127,7 +127,7 @@ impl<'w> Referee<'w> {
     }
 
     /// Laser: targets within `r_st`; records them as found.
-    pub fn laser(&mut self, robot: usize) -> &'w [u16] {
+    pub fn laser(&mut self, robot: usize) -> &'w [u32] {
         let ts = self.world.targets_near(self.pos[robot]);
         for &t in ts {
             self.found.set(t as usize);

@@ -1,15 +1,16 @@
 //! The decision core: one robot's side of a round (READING.md "One round"),
-//! as a state machine with no I/O. Both engines drive it the same way:
+//! as a state machine with no I/O and no clock. The robot's radio protocol
+//! ([`crate::peer`]) drives it the same way in both engines:
 //!
-//! 1. [`Robot::sense`] with what the robot's sensors and radio report (steps 1-2),
-//!    then [`Robot::learn_targets`] for targets broadcast by others;
-//! 2. [`Robot::map`] goes to every communication neighbour, whose maps come
-//!    back through [`Robot::receive_map`] (step 3); [`Robot::stop_rule`] is
-//!    then the stop test (rules 3/4);
-//! 3. [`Robot::receive_choice`] for each announced choice, [`Robot::declare_failed`]
-//!    for neighbours that will never answer; once [`Robot::ready`], [`Robot::choose`]
-//!    decides (steps 4-5) and the choice is announced;
-//! 4. [`Robot::moved`] once the world has executed the move (step 6).
+//! 1. [`Robot::sense`] with what the robot's own sensors report (steps 1-2);
+//! 2. [`Robot::receive_map`] for each map heard (step 3): the sender becomes
+//!    a communication neighbour for this round; [`Robot::stop_rule`] is the
+//!    stop test (rules 3/4) once the exchange is over;
+//! 3. [`Robot::receive_choice`] for each announced choice; [`Robot::suspect`]
+//!    for a neighbour that did not choose in time, [`Robot::declare_failed`]
+//!    for one that will never answer; once [`Robot::ready`], [`Robot::choose`]
+//!    decides (steps 4-5);
+//! 4. [`Robot::moved`] once the robot knows where it stands (step 6).
 //!
 //! A decision depends only on the set of inputs received, never on their
 //! arrival order: maps merge by union, choices wait for every higher-priority
@@ -35,12 +36,13 @@ pub struct RobotConfig {
     pub id: RobotId,
     pub policy: Policy,
     pub situation: Situation,
+    /// `|T|` in situation 1; 0 in situation 2, where nobody knows it.
     pub targets_total: usize,
     pub r_safe: f64,
     pub seed: u64,
 }
 
-/// One round's readings from the robot's own sensors and radio.
+/// One round's readings from the robot's own sensors.
 #[derive(Clone, Copy, Debug)]
 pub struct Sensing<'a> {
     /// Adjacency slots whose edge is free of obstacles and boundary (sonar).
@@ -48,9 +50,7 @@ pub struct Sensing<'a> {
     /// Adjacency slots whose vertex holds another robot (sonar).
     pub occupied: u8,
     /// Targets within `r_st` (laser).
-    pub targets: &'a [u16],
-    /// Robots within `r_c` this round (radio), excluding this robot.
-    pub neighbours: &'a [RobotId],
+    pub targets: &'a [u32],
 }
 
 /// Why a robot stops.
@@ -61,6 +61,17 @@ pub enum Stop {
     /// Rule (4): the map has no unvisited accessible vertex. In situation 1
     /// this also ends the search (nothing is left to find), incomplete.
     MapComplete,
+    /// Every unvisited vertex the robot knows lies behind failed robots: it
+    /// stops on its own, but its knowledge does not end the search for others.
+    CutOff,
+}
+
+impl Stop {
+    /// Whether what the robot knows leaves nothing undetected anywhere, so
+    /// its stop may end the search for everyone (step 8).
+    pub fn ends_search(self) -> bool {
+        self != Stop::CutOff
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -68,9 +79,13 @@ struct Neighbour {
     id: RobotId,
     at: VertexId,
     key: (i64, i64),
+    /// Its map of this round arrived.
     map_in: bool,
     choice: Option<VertexId>,
+    /// Failed for good, or suspected this round: not waited for, standing still.
     failed: bool,
+    /// It stopped searching: it stands still and chooses nothing.
+    halted: bool,
 }
 
 /// Scratch space for the escape policy's breadth-first search, kept between
@@ -95,6 +110,8 @@ pub struct Robot<'g> {
     open_now: u8,
     occupied_now: u8,
     next: Option<VertexId>,
+    /// Neighbours whose announced choices the last choice avoided.
+    accounted: Vec<RobotId>,
     bfs: Bfs,
 }
 
@@ -111,12 +128,21 @@ impl<'g> Robot<'g> {
             open_now: 0,
             occupied_now: 0,
             next: None,
+            accounted: Vec::with_capacity(8),
             bfs: Bfs::default(),
         }
     }
 
     pub fn id(&self) -> RobotId {
         self.cfg.id
+    }
+
+    pub fn config(&self) -> &RobotConfig {
+        &self.cfg
+    }
+
+    pub fn grid(&self) -> &'g Grid {
+        self.grid
     }
 
     pub fn position(&self) -> VertexId {
@@ -131,65 +157,88 @@ impl<'g> Robot<'g> {
         &self.map
     }
 
+    /// The map, for the protocol's bookkeeping of failures and rejoins.
+    pub fn map_mut(&mut self) -> &mut Map {
+        &mut self.map
+    }
+
     /// The choice made this round, once [`Robot::choose`] has run.
     pub fn choice(&self) -> Option<VertexId> {
         self.next
     }
 
-    /// Steps 1-2: start round `round` with this round's readings.
+    /// The neighbours whose announced choices the choice of this round avoided.
+    pub fn accounted(&self) -> &[RobotId] {
+        &self.accounted
+    }
+
+    /// The sonar's occupied slots of this round.
+    pub fn occupied(&self) -> u8 {
+        self.occupied_now
+    }
+
+    /// Steps 1-2: start round `round` with this round's readings. Nobody is
+    /// a neighbour until its map or choice is heard.
     pub fn sense(&mut self, round: u32, s: &Sensing) {
         self.round = round;
         self.next = None;
+        self.accounted.clear();
         self.open_now = s.open;
         self.occupied_now = s.occupied;
         self.map.record_sensing(self.grid, self.pos, s.open);
-        for &t in s.targets {
-            self.map.targets.set(t as usize);
-        }
+        self.learn_targets(s.targets);
         self.nbrs.clear();
-        for &id in s.neighbours {
-            if id == self.cfg.id || self.nbrs.iter().any(|n| n.id == id) {
-                continue;
-            }
-            let failed = self.map.is_failed(id);
-            self.nbrs.push(Neighbour { id, at: NONE, key: (0, 0), map_in: false, choice: None, failed });
-        }
-        // Sorted by id so every later pass visits neighbours in one fixed order.
-        self.nbrs.sort_unstable_by_key(|n| n.id);
     }
 
-    /// Step 1 of others: targets they broadcast to every robot.
-    pub fn learn_targets(&mut self, targets: &[u16]) {
+    /// Targets others found (a flood, step 1).
+    pub fn learn_targets(&mut self, targets: &[u32]) {
         for &t in targets {
-            if (t as usize) < self.cfg.targets_total {
-                self.map.targets.set(t as usize);
-            }
+            self.map.targets.set_growing(t as usize);
         }
     }
 
-    /// Step 3: a neighbour's map as it was when it sensed this round, and where
-    /// it stands. Returns false (and changes nothing) when `from` is not a
-    /// communication neighbour this round.
-    pub fn receive_map(&mut self, from: RobotId, at: VertexId, map: &Map) -> bool {
-        let Some(k) = self.nbrs.iter().position(|n| n.id == from) else {
+    /// The neighbour entry of `from`, added if it was not heard yet this round.
+    fn neighbour(&mut self, from: RobotId, at: VertexId) -> Option<&mut Neighbour> {
+        if from == self.cfg.id || (at as usize) >= self.grid.len() {
+            return None;
+        }
+        let k = match self.nbrs.iter().position(|n| n.id == from) {
+            Some(k) => k,
+            None => {
+                let failed = self.map.is_failed(from);
+                let key = self.grid.priority_key(at);
+                let n = Neighbour { id: from, at, key, map_in: false, choice: None, failed, halted: false };
+                // Sorted by id so every later pass visits neighbours in one fixed order.
+                let k = self.nbrs.partition_point(|m| m.id < from);
+                self.nbrs.insert(k, n);
+                k
+            }
+        };
+        Some(&mut self.nbrs[k])
+    }
+
+    /// Step 3: a neighbour's map as it was when it sensed this round, where
+    /// it stands, and whether it has stopped searching. Returns false (and
+    /// changes nothing) for a map from this robot itself or a bad vertex.
+    pub fn receive_map(&mut self, from: RobotId, at: VertexId, map: &Map, halted: bool) -> bool {
+        let Some(n) = self.neighbour(from, at) else {
             return false;
         };
-        if (at as usize) >= self.grid.len() {
-            return false;
-        }
-        self.map.merge(map);
-        let key = self.grid.priority_key(at);
-        let n = &mut self.nbrs[k];
         n.at = at;
-        n.key = key;
         n.map_in = true;
-        // A merged map may carry news of this neighbour's failure.
+        n.halted |= halted;
+        self.map.merge(map);
+        self.refresh_failed();
+        true
+    }
+
+    /// Marks every neighbour the map now holds failed.
+    fn refresh_failed(&mut self) {
         for n in self.nbrs.iter_mut() {
             if self.map.is_failed(n.id) {
                 n.failed = true;
             }
         }
-        true
     }
 
     /// Steps 7 (rules 3/4), evaluated once the maps are exchanged.
@@ -202,35 +251,55 @@ impl<'g> Robot<'g> {
         }
         // Sec. 4.2: a failed robot blocks its vertex for good, so it can cut
         // unvisited vertices off; those can never be visited and must not
-        // keep the search going. Only with failures, so a failure-free run
+        // keep this robot going. Only with failures, so a failure-free run
         // decides exactly as before.
-        if !self.map.failed.is_empty() && self.step_to_unvisited().is_none() {
-            return Some(Stop::MapComplete);
+        if self.map.any_failed() && self.step_to_unvisited().is_none() {
+            return Some(Stop::CutOff);
         }
         None
     }
 
-    /// Sec. 4.2: robot `id`, standing on `at`, will never answer. It is no
-    /// longer waited for and its vertex stays blocked.
-    pub fn declare_failed(&mut self, id: RobotId, at: VertexId) {
+    /// Sec. 4.2: robot `id`, standing on `at`, will never answer (declared
+    /// in `round`). It is no longer waited for and its vertex stays blocked.
+    pub fn declare_failed(&mut self, id: RobotId, at: VertexId, round: u32) {
         if id == self.cfg.id || (at as usize) >= self.grid.len() {
             return;
         }
-        self.map.add_failed(id, at);
+        self.map.add_failed(id, at, round);
         if let Some(n) = self.nbrs.iter_mut().find(|n| n.id == id) {
             n.failed = true;
         }
     }
 
-    /// Step 5 of a neighbour: its announced next vertex. Ignored from robots
-    /// that are not neighbours this round.
-    pub fn receive_choice(&mut self, from: RobotId, next: VertexId) -> bool {
-        match self.nbrs.iter_mut().find(|n| n.id == from) {
-            Some(n) if (next as usize) < self.grid.len() => {
+    /// Robot `id` was heard alive in `round`: a failure declared of it no
+    /// longer counts, and it is a neighbour like any other.
+    pub fn revive(&mut self, id: RobotId, round: u32) {
+        self.map.revive(id, round);
+        if let Some(n) = self.nbrs.iter_mut().find(|n| n.id == id) {
+            n.failed = false;
+        }
+    }
+
+    /// Robot `id` did not choose in time this round: it is no longer waited
+    /// for, and treated as standing still where it was heard.
+    pub fn suspect(&mut self, id: RobotId) {
+        if let Some(n) = self.nbrs.iter_mut().find(|n| n.id == id) {
+            n.failed = true;
+        }
+    }
+
+    /// Step 5 of a neighbour: its announced next vertex, from `at`. A robot
+    /// heard first through its choice becomes a neighbour.
+    pub fn receive_choice(&mut self, from: RobotId, at: VertexId, next: VertexId) -> bool {
+        if (next as usize) >= self.grid.len() {
+            return false;
+        }
+        match self.neighbour(from, at) {
+            Some(n) => {
                 n.choice = Some(next);
                 true
             }
-            _ => false,
+            None => false,
         }
     }
 
@@ -242,17 +311,15 @@ impl<'g> Robot<'g> {
         self.grid.priority_key(self.pos)
     }
 
-    /// Neighbours this robot still waits for: missing maps, then (for the
-    /// sequential policies) higher-priority neighbours that have not chosen.
+    /// Higher-priority neighbours this robot still waits for (sequential
+    /// policies only): heard, not failed or suspected, not halted, and
+    /// without an announced choice.
     pub fn waiting_for(&self) -> impl Iterator<Item = RobotId> + '_ {
-        let all_maps = self.nbrs.iter().all(|n| n.map_in || n.failed);
         let me = self.key();
         let seq = self.sequential();
         self.nbrs
             .iter()
-            .filter(move |n| {
-                !n.failed && (!n.map_in || (all_maps && seq && n.key > me && n.choice.is_none()))
-            })
+            .filter(move |n| seq && !n.failed && !n.halted && n.key > me && n.choice.is_none())
             .map(|n| n.id)
     }
 
@@ -261,9 +328,13 @@ impl<'g> Robot<'g> {
         self.next.is_none() && self.waiting_for().next().is_none()
     }
 
-    /// Whether `nb` chose before this robot (step 4's order).
-    fn chose_earlier(&self, nb: &Neighbour) -> bool {
-        self.sequential() && nb.key > self.key()
+    /// Whether `nb`'s announced move is to be avoided: its choice is known
+    /// (in a failure-free round, only higher-priority neighbours' are).
+    fn moving(&self, nb: &Neighbour) -> Option<VertexId> {
+        if !self.sequential() || nb.failed || nb.halted {
+            return None;
+        }
+        nb.choice
     }
 
     /// Steps 4-5: the next vertex (the current one to stay). `None` while
@@ -288,21 +359,20 @@ impl<'g> Robot<'g> {
                 continue;
             }
             let there = grid.position(n);
-            for &(_, at) in &self.map.failed {
+            for (_, at) in self.map.failed_now() {
                 let p = grid.position(at);
                 if at == n || swept_min_distance(here, there, p, p) < two_safe {
                     continue 'slot;
                 }
             }
             let mut vacated = false;
-            for nb in self.nbrs.iter().filter(|nb| !nb.failed && nb.map_in) {
+            for nb in &self.nbrs {
                 let from = grid.position(nb.at);
-                if self.chose_earlier(nb) {
-                    let c = nb.choice.expect("ready() waits for every earlier choice");
+                if let Some(c) = self.moving(nb) {
                     if c == n || swept_min_distance(here, there, from, grid.position(c)) < two_safe {
                         continue 'slot;
                     }
-                    vacated |= nb.at == n;
+                    vacated |= nb.at == n && c != n;
                 } else if nb.at == n || swept_min_distance(here, there, from, from) < two_safe {
                     continue 'slot;
                 }
@@ -317,6 +387,12 @@ impl<'g> Robot<'g> {
         let cands = &cands[..nc];
         let next = self.pick(cands).unwrap_or(self.pos);
         self.next = Some(next);
+        self.accounted.clear();
+        for i in 0..self.nbrs.len() {
+            if self.moving(&self.nbrs[i]).is_some() {
+                self.accounted.push(self.nbrs[i].id);
+            }
+        }
         Some(next)
     }
 
@@ -347,6 +423,7 @@ impl<'g> Robot<'g> {
         }
         let repulsive = matches!(self.cfg.policy, Policy::Repulsive | Policy::Escape);
         let live = self.nbrs.iter().filter(|n| !n.failed && n.map_in).count();
+        // Rule (1) without communication neighbours.
         if !repulsive || live == 0 {
             return Some(self.uniform(set));
         }
@@ -354,7 +431,7 @@ impl<'g> Robot<'g> {
         // positions and the later choosers' current positions.
         let (mut si, mut sj) = (0i64, 0i64);
         for nb in self.nbrs.iter().filter(|n| !n.failed && n.map_in) {
-            let v = if self.chose_earlier(nb) { nb.choice.unwrap_or(nb.at) } else { nb.at };
+            let v = self.moving(nb).unwrap_or(nb.at);
             let c = self.grid.coord(v);
             si += c.i as i64;
             sj += c.j as i64;
@@ -407,7 +484,7 @@ impl<'g> Robot<'g> {
         bfs.queue.clear();
         bfs.stamp[self.pos as usize] = g;
         bfs.queue.push(self.pos);
-        for &(_, at) in &self.map.failed {
+        for (_, at) in self.map.failed_now() {
             bfs.stamp[at as usize] = g;
         }
         let mut head = 0;
@@ -453,13 +530,18 @@ mod tests {
         let cfg = RobotConfig { id: 0, policy: Policy::Repulsive, situation: Situation::Two, targets_total: 0, r_safe: 0.3, seed: 1 };
         let mut r = Robot::new(g, cfg, v);
         // Only the edge in slot 0 is open: its far end is the one unvisited vertex.
-        r.sense(0, &Sensing { open: 1, occupied: 0, targets: &[], neighbours: &[] });
+        r.sense(0, &Sensing { open: 1, occupied: 0, targets: &[] });
         assert_eq!(r.stop_rule(), None);
         // A failed robot elsewhere changes nothing.
-        r.declare_failed(4, g.neighbors(v)[3]);
+        r.declare_failed(4, g.neighbors(v)[3], 0);
         assert_eq!(r.stop_rule(), None);
-        // One standing on that vertex blocks it for good: nothing is left.
-        r.declare_failed(5, g.neighbors(v)[0]);
-        assert_eq!(r.stop_rule(), Some(Stop::MapComplete));
+        // One standing on that vertex blocks it for good: nothing is left
+        // this robot can reach, which ends its own search only.
+        r.declare_failed(5, g.neighbors(v)[0], 0);
+        assert_eq!(r.stop_rule(), Some(Stop::CutOff));
+        assert!(!Stop::CutOff.ends_search());
+        // Heard alive again: the vertex is free once more.
+        r.map_mut().revive(5, 1);
+        assert_eq!(r.stop_rule(), None);
     }
 }

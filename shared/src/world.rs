@@ -22,7 +22,7 @@ pub struct World {
     /// `open[v]` bit `d`: the edge in slot `d` of `v` is traversable.
     open: Vec<u8>,
     /// Targets within `r_st` of each vertex.
-    targets_near: Vec<Vec<u16>>,
+    targets_near: Vec<Vec<u32>>,
 }
 
 impl World {
@@ -77,7 +77,7 @@ impl World {
         let targets_near = (0..grid.len() as VertexId)
             .map(|v| {
                 let p = grid.position(v);
-                (0..targets.len()).filter(|&t| (targets[t] - p).norm() <= params.r_st).map(|t| t as u16).collect()
+                (0..targets.len()).filter(|&t| (targets[t] - p).norm() <= params.r_st).map(|t| t as u32).collect()
             })
             .collect();
         World { grid, area, obstacles, targets, params, accessible, open, targets_near }
@@ -98,7 +98,7 @@ impl World {
     }
 
     /// Targets within `r_st` of vertex `v`.
-    pub fn targets_near(&self, v: VertexId) -> &[u16] {
+    pub fn targets_near(&self, v: VertexId) -> &[u32] {
         &self.targets_near[v as usize]
     }
 
@@ -109,7 +109,17 @@ impl World {
 
     /// `Va`: the accessible vertices reachable from `starts` over traversable edges.
     pub fn reachable_from(&self, starts: &[VertexId]) -> Vec<bool> {
+        self.reachable_avoiding(starts, &[])
+    }
+
+    /// Accessible vertices reachable from `starts` over traversable edges
+    /// without entering any of `blocked` (the bodies of failed robots).
+    pub fn reachable_avoiding(&self, starts: &[VertexId], blocked: &[VertexId]) -> Vec<bool> {
         let mut seen = vec![false; self.grid.len()];
+        let mut stop = vec![false; self.grid.len()];
+        for &b in blocked {
+            stop[b as usize] = true;
+        }
         let mut queue: VecDeque<VertexId> = VecDeque::new();
         for &s in starts {
             if self.accessible[s as usize] && !seen[s as usize] {
@@ -119,7 +129,7 @@ impl World {
         }
         while let Some(v) = queue.pop_front() {
             for (d, &n) in self.grid.neighbors(v)[..self.grid.degree()].iter().enumerate() {
-                if self.open[v as usize] >> d & 1 == 1 && !seen[n as usize] {
+                if self.open[v as usize] >> d & 1 == 1 && !seen[n as usize] && !stop[n as usize] {
                     seen[n as usize] = true;
                     queue.push_back(n);
                 }

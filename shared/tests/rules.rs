@@ -53,8 +53,8 @@ fn rule_1_prefers_unvisited_uniformly() {
     for seed in 0..200 {
         // (1)&(3) uses rule (1) whatever its neighbours; robot 9 only brings the map.
         let mut r = robot(g, Policy::Sequential, seed, 0, v);
-        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[], neighbours: &[9] });
-        assert!(r.receive_map(9, at(g, -8, 0), &m));
+        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+        assert!(r.receive_map(9, at(g, -8, 0), &m, false));
         let c = r.choose().unwrap();
         assert!(!visited.contains(&c) && c != v, "seed {seed}: chose visited {c}");
         seen.insert(c);
@@ -74,13 +74,13 @@ fn rule_1_falls_back_to_visited_then_stays() {
     for seed in 0..100 {
         let mut r = robot(g, Policy::Sequential, seed, 0, v);
         // Only slots 0 and 4 are open.
-        r.sense(0, &Sensing { open: 0b01_0001, occupied: 0, targets: &[], neighbours: &[9] });
-        r.receive_map(9, at(g, -8, 0), &m);
+        r.sense(0, &Sensing { open: 0b01_0001, occupied: 0, targets: &[] });
+        r.receive_map(9, at(g, -8, 0), &m, false);
         seen.insert(r.choose().unwrap());
     }
     assert_eq!(seen, [slot(g, v, 0), slot(g, v, 4)].into_iter().collect());
     let mut r = robot(g, Policy::Sequential, 1, 0, v);
-    r.sense(0, &Sensing { open: 0, occupied: 0, targets: &[], neighbours: &[] });
+    r.sense(0, &Sensing { open: 0, occupied: 0, targets: &[] });
     assert_eq!(r.choose(), Some(v), "no candidates: stay");
 }
 
@@ -93,18 +93,18 @@ fn rule_2_moves_away_from_the_mean() {
     // candidate from it is the right-hand vertex, uniquely.
     for seed in 0..50 {
         let mut r = robot(g, Policy::Repulsive, seed, 0, v);
-        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[], neighbours: &[1] });
-        r.receive_map(1, at(g, -2, 0), &Map::new(g.len(), 0));
+        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+        r.receive_map(1, at(g, -2, 0), &Map::new(g.len(), 0), false);
         assert!(r.ready(), "a lower-priority neighbour is not waited for");
         assert_eq!(r.choose(), Some(at(g, 1, 0)));
     }
     // A higher-priority neighbour two steps right that stays: go left.
     let mut r = robot(g, Policy::Repulsive, 3, 0, v);
-    r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[], neighbours: &[1] });
-    r.receive_map(1, at(g, 2, 0), &Map::new(g.len(), 0));
+    r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+    r.receive_map(1, at(g, 2, 0), &Map::new(g.len(), 0), false);
     assert!(!r.ready(), "waits for the higher-priority neighbour");
     assert_eq!(r.choose(), None);
-    r.receive_choice(1, at(g, 2, 0));
+    r.receive_choice(1, at(g, 2, 0), at(g, 2, 0));
     assert_eq!(r.choose(), Some(at(g, -1, 0)));
 }
 
@@ -117,9 +117,9 @@ fn rule_2_ties_are_drawn_uniformly() {
     let mut seen = BTreeSet::new();
     for seed in 0..100 {
         let mut r = robot(g, Policy::Repulsive, seed, 0, v);
-        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[], neighbours: &[1] });
-        r.receive_map(1, at(g, -1, 2), &Map::new(g.len(), 0));
-        r.receive_choice(1, at(g, -1, 2));
+        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+        r.receive_map(1, at(g, -1, 2), &Map::new(g.len(), 0), false);
+        r.receive_choice(1, at(g, -1, 2), at(g, -1, 2));
         seen.insert(r.choose().unwrap());
     }
     assert_eq!(seen, [at(g, 0, -1), at(g, 1, -1)].into_iter().collect());
@@ -135,10 +135,10 @@ fn earlier_choices_exclude_vertices_and_colliding_moves() {
     let left = at(g, -1, 0); // lower-priority neighbour
     for seed in 0..100 {
         let mut r = robot(g, Policy::Sequential, seed, 0, v);
-        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0b00_1001, targets: &[], neighbours: &[1, 2] });
-        r.receive_map(1, j_at, &Map::new(g.len(), 0));
-        r.receive_map(2, left, &Map::new(g.len(), 0));
-        r.receive_choice(1, j_to);
+        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0b00_1001, targets: &[] });
+        r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
+        r.receive_map(2, left, &Map::new(g.len(), 0), false);
+        r.receive_choice(1, j_at, j_to);
         let c = r.choose().unwrap();
         assert_ne!(c, j_to, "chosen by an earlier robot");
         assert_ne!(c, j_at, "following a 120-degree turn collides");
@@ -148,9 +148,9 @@ fn earlier_choices_exclude_vertices_and_colliding_moves() {
     let mut ok = false;
     for seed in 0..100 {
         let mut r = robot(g, Policy::Sequential, seed, 0, v);
-        r.sense(0, &Sensing { open: 0b00_0001, occupied: 0b00_0001, targets: &[], neighbours: &[1] });
-        r.receive_map(1, j_at, &Map::new(g.len(), 0));
-        r.receive_choice(1, at(g, 2, 0));
+        r.sense(0, &Sensing { open: 0b00_0001, occupied: 0b00_0001, targets: &[] });
+        r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
+        r.receive_choice(1, j_at, at(g, 2, 0));
         ok |= r.choose() == Some(j_at);
     }
     assert!(ok);
@@ -164,9 +164,10 @@ fn a_failed_neighbour_is_not_waited_for_and_stays_blocked() {
     let j_at = at(g, 1, 0);
     for seed in 0..50 {
         let mut r = robot(g, Policy::Repulsive, seed, 0, v);
-        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0b00_0001, targets: &[], neighbours: &[1] });
-        assert!(!r.ready(), "waits for the neighbour's map");
-        r.declare_failed(1, j_at);
+        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0b00_0001, targets: &[] });
+        r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
+        assert!(!r.ready(), "waits for the higher-priority neighbour's choice");
+        r.declare_failed(1, j_at, 0);
         assert!(r.ready());
         let c = r.choose().unwrap();
         assert_ne!(c, j_at);
@@ -184,15 +185,15 @@ fn arrival_order_does_not_matter() {
     for seed in 0..50 {
         let run = |first: bool| {
             let mut r = robot(g, Policy::Repulsive, seed, 0, v);
-            r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[], neighbours: &[1, 2] });
+            r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
             if first {
-                r.receive_map(1, at(g, 2, 0), &m1);
-                r.receive_map(2, at(g, -2, 1), &m2);
+                r.receive_map(1, at(g, 2, 0), &m1, false);
+                r.receive_map(2, at(g, -2, 1), &m2, false);
             } else {
-                r.receive_map(2, at(g, -2, 1), &m2);
-                r.receive_map(1, at(g, 2, 0), &m1);
+                r.receive_map(2, at(g, -2, 1), &m2, false);
+                r.receive_map(1, at(g, 2, 0), &m1, false);
             }
-            r.receive_choice(1, at(g, 2, -1));
+            r.receive_choice(1, at(g, 2, 0), at(g, 2, -1));
             (r.choose(), r.map().clone())
         };
         assert_eq!(run(true), run(false));
@@ -200,14 +201,31 @@ fn arrival_order_does_not_matter() {
 }
 
 #[test]
-fn messages_from_outside_the_radio_range_have_no_effect() {
+fn maps_from_itself_or_off_the_grid_have_no_effect() {
     let w = world();
     let g = &w.grid;
     let v = at(g, 0, 0);
     let mut r = robot(g, Policy::Repulsive, 1, 0, v);
-    r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[], neighbours: &[] });
+    r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
     let before = r.map().clone();
-    assert!(!r.receive_map(5, at(g, 1, 0), &visited_map(g, &[at(g, 3, 3)])));
-    assert!(!r.receive_choice(5, at(g, 1, 1)));
+    assert!(!r.receive_map(0, at(g, 1, 0), &visited_map(g, &[at(g, 3, 3)]), false));
+    assert!(!r.receive_map(5, g.len() as VertexId, &visited_map(g, &[at(g, 3, 3)]), false));
+    assert!(!r.receive_choice(5, at(g, 1, 1), g.len() as VertexId));
     assert_eq!(r.map(), &before);
+    assert!(r.ready(), "nobody heard, nobody waited for");
+}
+
+#[test]
+fn a_halted_neighbour_is_not_waited_for_and_never_vacates() {
+    let w = world();
+    let g = &w.grid;
+    let v = at(g, 0, 0);
+    let j_at = at(g, 1, 0);
+    for seed in 0..50 {
+        let mut r = robot(g, Policy::Repulsive, seed, 0, v);
+        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0b00_0001, targets: &[] });
+        r.receive_map(1, j_at, &Map::new(g.len(), 0), true);
+        assert!(r.ready());
+        assert_ne!(r.choose(), Some(j_at));
+    }
 }

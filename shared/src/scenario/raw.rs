@@ -44,6 +44,11 @@ struct RawParams {
     t_rot: Option<f64>,
     t_trans: Option<f64>,
     t_choice: Option<f64>,
+    t_exchange: Option<f64>,
+    t_hop: Option<f64>,
+    t_wait: Option<f64>,
+    retries: Option<u32>,
+    suspect_rounds: Option<u32>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -178,6 +183,9 @@ fn non_negative(ctx: &Ctx, field: &str, v: f64) -> Result<f64, ScenarioError> {
     }
 }
 
+/// More retransmissions than this buy nothing measurable and cost a slot's air time.
+pub const MAX_RETRIES: u32 = 10;
+
 impl RawParams {
     /// Ranges not given take the equality case of their assumption
     /// ([`Params::derived`]); the assumptions themselves are not enforced
@@ -202,6 +210,27 @@ impl RawParams {
         p.t_rot = opt("params.t_rot", self.t_rot, non_negative, p.t_rot)?;
         p.t_trans = opt("params.t_trans", self.t_trans, non_negative, p.t_trans)?;
         p.t_choice = opt("params.t_choice", self.t_choice, non_negative, p.t_choice)?;
+        p.t_exchange = opt("params.t_exchange", self.t_exchange, positive, p.t_exchange)?;
+        p.t_hop = opt("params.t_hop", self.t_hop, positive, p.t_hop)?;
+        p.t_wait = opt("params.t_wait", self.t_wait, positive, p.t_wait)?;
+        if p.t_hop >= p.t_exchange {
+            return Err(ctx.err(
+                "params.t_hop",
+                format!("must be below t_exchange = {} (a map must be able to arrive within the exchange), got {}", p.t_exchange, p.t_hop),
+            ));
+        }
+        if let Some(r) = self.retries {
+            if r > MAX_RETRIES {
+                return Err(ctx.err("params.retries", format!("must be at most {MAX_RETRIES}, got {r}")));
+            }
+            p.retries = r;
+        }
+        if let Some(k) = self.suspect_rounds {
+            if k == 0 {
+                return Err(ctx.err("params.suspect_rounds", "must be at least 1, got 0"));
+            }
+            p.suspect_rounds = k;
+        }
         Ok(p)
     }
 }

@@ -1,0 +1,605 @@
+//! The robot's radio protocol: one robot's side of a slot, on top of the
+//! decision core ([`crate::robot`]), as a state machine with no I/O. Both
+//! engines drive it through [`Peer::wake`] with what the robot's sensors,
+//! radio and clock deliver, and execute what it returns ([`Output`]).
+//!
+//! A slot, as one robot lives it:
+//!
+//! 1. **Exchange.** At the start of the slot it senses, broadcasts its map
+//!    (and floods newly found targets, situation 1), and sleeps until the
+//!    exchange window `t_exchange` ends. The robots whose maps it heard are
+//!    its communication neighbours for the slot.
+//! 2. **Failure detection.** A robot it heard last slot and expected in
+//!    range again, whose map did not come, is declared failed after
+//!    `suspect_rounds` such slots, standing where it was last heard; the
+//!    declaration spreads with the maps. A robot heard again after being
+//!    declared rejoins: the later round wins ([`crate::map::Map::revive`]).
+//! 3. **Stop.** Rules (3)/(4). A robot whose knowledge leaves nothing
+//!    undetected stops and floods the stop; one cut off behind failed robots
+//!    stops on its own only. A robot that hears a stop stops and relays it.
+//! 4. **Choice.** It waits for the choices of its higher-priority
+//!    neighbours (step 4) until `t_wait` after the exchange; those still
+//!    missing are suspected for the slot and treated as standing still.
+//!    Then it chooses (step 5) and broadcasts the choice.
+//! 5. **Acknowledgement.** A robot that receives a choice acknowledges it
+//!    if it has not committed to a conflicting move (it will avoid it), and
+//!    refuses it otherwise.
+//! 6. **Commit.** It moves only once every neighbour it heard this slot has
+//!    acknowledged its choice, or announced a choice it avoided or that is
+//!    compatible with its own; and, following into a neighbour's vertex,
+//!    once that neighbour has committed to leaving. A refusal, or no answer
+//!    within `t_wait`, and it stays ("stay when unsure"). Its motor command
+//!    goes to the world, and a `Commit` frame tells followers whether it
+//!    really leaves.
+//!
+//! Why no two robots collide, and what loss does to that, is argued in
+//! ARCHITECTURE.md ("Safety").
+
+use crate::bitset::Bitset;
+use crate::geometry::swept_min_distance;
+use crate::grid::{Grid, VertexId};
+use crate::map::RobotId;
+use crate::params::{Params, Situation};
+use crate::policy::Policy;
+use crate::protocol::Frame;
+use crate::robot::{Robot, RobotConfig, Sensing};
+use crate::sim::{micros, Motor, Note, Output, Tick, Time, Transmit};
+
+/// The protocol's clock settings, in simulated microseconds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Timing {
+    pub exchange: Time,
+    pub choice: Time,
+    pub wait: Time,
+    /// Transmissions of every frame: 1 + retries.
+    pub copies: u8,
+    pub suspect_rounds: u32,
+}
+
+impl Timing {
+    pub fn from_params(p: &Params) -> Self {
+        Timing {
+            exchange: micros(p.t_exchange),
+            choice: micros(p.t_choice),
+            wait: micros(p.t_wait),
+            copies: (1 + p.retries).min(u8::MAX as u32) as u8,
+            suspect_rounds: p.suspect_rounds.max(1),
+        }
+    }
+}
+
+/// What a robot knows about itself before it starts: the grid frame comes
+/// separately; this is its identity, its algorithm and its parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct PeerConfig {
+    pub robot: RobotConfig,
+    pub timing: Timing,
+    /// Radio range, to tell which neighbours it should hear again.
+    pub r_c: f64,
+}
+
+impl PeerConfig {
+    pub fn new(robot: RobotConfig, params: &Params) -> Self {
+        PeerConfig { robot, timing: Timing::from_params(params), r_c: params.r_c }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Phase {
+    /// Before its first slot.
+    Idle,
+    Exchange,
+    Choosing,
+    /// Its motor command for the slot is given.
+    Committed,
+    /// It stopped searching for good.
+    Halted,
+}
+
+/// Someone heard this slot.
+#[derive(Clone, Copy, Debug)]
+struct Heard {
+    id: RobotId,
+    at: VertexId,
+    map: bool,
+    halted: bool,
+    choice: Option<VertexId>,
+    /// Its choice avoided this robot's.
+    accounted_me: bool,
+    acked_me: bool,
+    refused_me: bool,
+    commit: Option<bool>,
+}
+
+/// A robot heard last slot and expected in range again.
+#[derive(Clone, Copy, Debug)]
+struct Expect {
+    id: RobotId,
+    at: VertexId,
+    missed: u32,
+}
+
+enum Acks {
+    Complete,
+    Waiting,
+    Conflict,
+}
+
+pub struct Peer<'g> {
+    grid: &'g Grid,
+    cfg: PeerConfig,
+    robot: Option<Robot<'g>>,
+    round: u32,
+    phase: Phase,
+    window_end: Time,
+    deadline: Time,
+    choice_ready: Time,
+    ack_deadline: Time,
+    /// A stop that ends the search is known: carried in every map from now on.
+    stop_known: bool,
+    stop_flooded: bool,
+    heard: Vec<Heard>,
+    expected: Vec<Expect>,
+    /// Targets this robot has flooded (found or relayed).
+    flooded: Bitset,
+    acks: Vec<RobotId>,
+    refusals: Vec<RobotId>,
+}
+
+impl<'g> Peer<'g> {
+    pub fn new(grid: &'g Grid, cfg: PeerConfig) -> Self {
+        Peer {
+            grid,
+            cfg,
+            robot: None,
+            round: 0,
+            phase: Phase::Idle,
+            window_end: 0,
+            deadline: 0,
+            choice_ready: 0,
+            ack_deadline: 0,
+            stop_known: false,
+            stop_flooded: false,
+            heard: Vec::with_capacity(16),
+            expected: Vec::new(),
+            flooded: Bitset::new(0),
+            acks: Vec::new(),
+            refusals: Vec::new(),
+        }
+    }
+
+    pub fn id(&self) -> RobotId {
+        self.cfg.robot.id
+    }
+
+    /// The decision core, once the first slot started.
+    pub fn robot(&self) -> Option<&Robot<'g>> {
+        self.robot.as_ref()
+    }
+
+    pub fn halted(&self) -> bool {
+        self.phase == Phase::Halted
+    }
+
+    /// One wake-up: the readings of a new slot (if any), the frames heard
+    /// since the last wake-up (with their transmitters), and the time.
+    pub fn wake<'f>(
+        &mut self,
+        now: Time,
+        tick: Option<&Tick>,
+        frames: impl IntoIterator<Item = (RobotId, &'f Frame)>,
+        out: &mut Output<Frame>,
+    ) {
+        out.clear();
+        match tick {
+            Some(t) => {
+                // Frames of the slot that ended (heard after this robot
+                // committed) first: they say where its neighbours went.
+                let (old, new): (Vec<_>, Vec<_>) = frames.into_iter().partition(|(_, f)| f.round() < t.round);
+                for (from, f) in old {
+                    self.on_frame(from, f, out);
+                }
+                self.start_slot(now, t, out);
+                for (from, f) in new {
+                    self.on_frame(from, f, out);
+                }
+            }
+            None => {
+                for (from, f) in frames {
+                    self.on_frame(from, f, out);
+                }
+            }
+        }
+        self.send_acks(now, out);
+        if self.phase == Phase::Exchange && now >= self.window_end {
+            self.end_exchange(now, out);
+        }
+        if self.phase == Phase::Choosing {
+            self.progress(now, out);
+        }
+        let (alarm, listen) = match self.phase {
+            Phase::Exchange => (Some(self.window_end), false),
+            Phase::Choosing => (Some(if self.has_chosen() { self.ack_deadline } else { self.deadline }), true),
+            _ => (None, false),
+        };
+        out.alarm = alarm;
+        out.listen = listen;
+    }
+
+    fn send(&self, out: &mut Output<Frame>, frame: Frame, ready: Time) {
+        out.send.push(Transmit { payload: frame, ready, copies: self.cfg.timing.copies });
+    }
+
+    fn has_chosen(&self) -> bool {
+        self.robot.as_ref().is_some_and(|r| r.choice().is_some())
+    }
+
+    fn heard_mut(&mut self, id: RobotId, at: VertexId) -> &mut Heard {
+        let k = match self.heard.binary_search_by_key(&id, |h| h.id) {
+            Ok(k) => k,
+            Err(k) => {
+                let h = Heard {
+                    id,
+                    at,
+                    map: false,
+                    halted: false,
+                    choice: None,
+                    accounted_me: false,
+                    acked_me: false,
+                    refused_me: false,
+                    commit: None,
+                };
+                self.heard.insert(k, h);
+                k
+            }
+        };
+        &mut self.heard[k]
+    }
+
+    fn start_slot(&mut self, now: Time, tick: &Tick, out: &mut Output<Frame>) {
+        if self.phase != Phase::Idle && tick.round <= self.round {
+            return;
+        }
+        let (grid, rcfg) = (self.grid, self.cfg.robot);
+        let robot = self.robot.get_or_insert_with(|| Robot::new(grid, rcfg, tick.at));
+        robot.moved(tick.at);
+        let consecutive = self.phase != Phase::Idle && tick.round == self.round + 1;
+        self.expect(tick.at, consecutive);
+        self.round = tick.round;
+        self.heard.clear();
+        self.acks.clear();
+        self.refusals.clear();
+        let robot = self.robot.as_mut().expect("made above");
+        robot.sense(tick.round, &Sensing { open: tick.open, occupied: tick.occupied, targets: &tick.targets });
+        let me = robot.id();
+        let halted = self.phase == Phase::Halted;
+        let window_end = tick.start + self.cfg.timing.exchange;
+        if !halted && now >= window_end {
+            // Woken after the exchange (it was frozen): it sits this slot out
+            // where it stands, silent, and takes part again from the next.
+            out.motor = Some((Motor::Go(tick.at), now));
+            self.phase = Phase::Committed;
+            return;
+        }
+        let map = robot.map().clone();
+        self.send(out, Frame::Map { round: tick.round, from: me, at: tick.at, halted, stop: self.stop_known, map }, now);
+        if self.cfg.robot.situation == Situation::One {
+            let new: Vec<u32> = tick.targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();
+            if !new.is_empty() {
+                for &t in &new {
+                    self.flooded.set_growing(t as usize);
+                }
+                self.send(out, Frame::Flood { round: tick.round, from: me, targets: new, stop: false }, now);
+            }
+        }
+        if !halted {
+            self.window_end = window_end;
+            self.phase = Phase::Exchange;
+        }
+    }
+
+    /// Robots heard last slot that should be heard again: in range whether
+    /// or not they moved as they announced. Robots still missing from
+    /// earlier slots, not yet declared, stay expected.
+    fn expect(&mut self, pos: VertexId, consecutive: bool) {
+        if !consecutive {
+            self.expected.clear();
+            return;
+        }
+        let grid = self.grid;
+        let here = grid.position(pos);
+        let r_c2 = self.cfg.r_c * self.cfg.r_c;
+        let in_range = |v: VertexId| (grid.position(v) - here).norm_squared() <= r_c2;
+        let mut next: Vec<Expect> = Vec::new();
+        for h in &self.heard {
+            if !(h.map || h.choice.is_some()) {
+                continue;
+            }
+            let at = match (h.choice, h.commit) {
+                (Some(c), Some(true)) => c,
+                _ => h.at,
+            };
+            let maybe = match (h.choice, h.commit) {
+                (Some(c), None) if c != h.at => Some(c),
+                _ => None,
+            };
+            if in_range(at) && maybe.is_none_or(in_range) {
+                next.push(Expect { id: h.id, at, missed: 0 });
+            }
+        }
+        for e in &self.expected {
+            let declared = self.robot.as_ref().is_some_and(|r| r.map().is_failed(e.id));
+            if e.missed > 0 && !declared && in_range(e.at) && !next.iter().any(|n| n.id == e.id) {
+                next.push(*e);
+            }
+        }
+        self.expected = next;
+    }
+
+    fn on_frame(&mut self, from: RobotId, f: &Frame, out: &mut Output<Frame>) {
+        if f.from() != from {
+            out.notes.push(Note::Malformed);
+            return;
+        }
+        if self.robot.is_none() || from == self.id() {
+            return;
+        }
+        if let Frame::Flood { targets, stop, .. } = f {
+            self.on_flood(targets, *stop, out);
+            return;
+        }
+        if f.round() != self.round {
+            out.notes.push(Note::Stale);
+            return;
+        }
+        let me = self.id();
+        let round = self.round;
+        match f {
+            Frame::Map { at, halted, stop, map, .. } => {
+                let robot = self.robot.as_mut().expect("checked");
+                if !robot.receive_map(from, *at, map, *halted) {
+                    return;
+                }
+                if robot.map().is_failed(from) {
+                    robot.revive(from, round);
+                    out.notes.push(Note::Rejoined { robot: from });
+                }
+                let h = self.heard_mut(from, *at);
+                h.map = true;
+                h.at = *at;
+                h.halted |= *halted;
+                if *stop {
+                    self.stop_known = true;
+                }
+            }
+            Frame::Choice { at, next, accounted, .. } => {
+                let robot = self.robot.as_mut().expect("checked");
+                if robot.map().is_failed(from) {
+                    // A choice is a sign of life: it must be avoided like any other.
+                    robot.revive(from, round);
+                    out.notes.push(Note::Rejoined { robot: from });
+                }
+                if !robot.receive_choice(from, *at, *next) {
+                    return;
+                }
+                let h = self.heard_mut(from, *at);
+                h.choice = Some(*next);
+                h.accounted_me = accounted.contains(&me);
+                self.answer_choice(from, *at, *next);
+            }
+            Frame::Ack { acked, refused, .. } => {
+                if let Ok(k) = self.heard.binary_search_by_key(&from, |h| h.id) {
+                    self.heard[k].acked_me |= acked.contains(&me);
+                    self.heard[k].refused_me |= refused.contains(&me);
+                }
+            }
+            Frame::Commit { moving, .. } => {
+                if let Ok(k) = self.heard.binary_search_by_key(&from, |h| h.id) {
+                    self.heard[k].commit = Some(*moving);
+                }
+            }
+            Frame::Flood { .. } => unreachable!("handled above"),
+        }
+    }
+
+    /// Step 5's acknowledgement: before choosing, every choice heard is one
+    /// this robot will avoid; after, only one compatible with its own.
+    fn answer_choice(&mut self, from: RobotId, at: VertexId, next: VertexId) {
+        if !matches!(self.phase, Phase::Exchange | Phase::Choosing) {
+            return;
+        }
+        let robot = self.robot.as_ref().expect("checked");
+        match robot.choice() {
+            None => self.acks.push(from),
+            Some(c) if compatible(robot, robot.position(), c, at, next) => self.acks.push(from),
+            Some(_) => self.refusals.push(from),
+        }
+    }
+
+    fn send_acks(&mut self, now: Time, out: &mut Output<Frame>) {
+        if self.acks.is_empty() && self.refusals.is_empty() {
+            return;
+        }
+        let acked = std::mem::take(&mut self.acks);
+        let refused = std::mem::take(&mut self.refusals);
+        self.send(out, Frame::Ack { round: self.round, from: self.id(), acked, refused }, now);
+    }
+
+    /// A flood: targets and the stop, relayed once, whatever the round.
+    fn on_flood(&mut self, targets: &[u32], stop: bool, out: &mut Output<Frame>) {
+        let robot = self.robot.as_mut().expect("checked");
+        let new: Vec<u32> = targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();
+        robot.learn_targets(&new);
+        for &t in &new {
+            self.flooded.set_growing(t as usize);
+        }
+        let new_stop = stop && !self.stop_flooded;
+        if new_stop {
+            self.stop_known = true;
+            self.stop_flooded = true;
+        }
+        if !new.is_empty() || new_stop {
+            let f = Frame::Flood { round: self.round, from: self.id(), targets: new, stop: new_stop };
+            // Relayed as soon as heard: `now` is not known here, the wake-up time is.
+            out.send.push(Transmit { payload: f, ready: 0, copies: self.cfg.timing.copies });
+        }
+    }
+
+    fn end_exchange(&mut self, now: Time, out: &mut Output<Frame>) {
+        let round = self.round;
+        let robot = self.robot.as_mut().expect("started");
+        let mut expected = std::mem::take(&mut self.expected);
+        for e in expected.iter_mut() {
+            let heard = self.heard.binary_search_by_key(&e.id, |h| h.id).is_ok_and(|k| self.heard[k].map);
+            if heard {
+                e.missed = 0;
+                continue;
+            }
+            e.missed += 1;
+            if e.missed >= self.cfg.timing.suspect_rounds && !robot.map().is_failed(e.id) {
+                robot.declare_failed(e.id, e.at, round);
+                out.notes.push(Note::Declared { robot: e.id });
+            }
+        }
+        self.expected = expected;
+        if self.stop_known {
+            self.halt(now, true, true, out);
+            return;
+        }
+        if let Some(stop) = robot.stop_rule() {
+            self.halt(now, stop.ends_search(), false, out);
+            return;
+        }
+        self.phase = Phase::Choosing;
+        self.deadline = self.window_end + self.cfg.timing.wait;
+    }
+
+    fn halt(&mut self, now: Time, ends_search: bool, relayed: bool, out: &mut Output<Frame>) {
+        let robot = self.robot.as_ref().expect("started");
+        if let Some(c) = robot.choice() {
+            if c != robot.position() {
+                self.send(out, Frame::Commit { round: self.round, from: self.id(), moving: false }, now);
+            }
+        }
+        self.phase = Phase::Halted;
+        out.motor = Some((Motor::Halt, now));
+        out.notes.push(Note::Stopped { ends_search, relayed });
+        if ends_search {
+            self.stop_known = true;
+            if !self.stop_flooded {
+                self.stop_flooded = true;
+                self.send(out, Frame::Flood { round: self.round, from: self.id(), targets: vec![], stop: true }, now);
+            }
+        }
+    }
+
+    fn progress(&mut self, now: Time, out: &mut Output<Frame>) {
+        if self.stop_known {
+            self.halt(now, true, true, out);
+            return;
+        }
+        let round = self.round;
+        let me = self.id();
+        let timing = self.cfg.timing;
+        let robot = self.robot.as_mut().expect("started");
+        if robot.choice().is_none() {
+            if now >= self.deadline && !robot.ready() {
+                let late: Vec<RobotId> = robot.waiting_for().collect();
+                for j in late {
+                    robot.suspect(j);
+                    out.notes.push(Note::TimedOut { robot: j });
+                }
+            }
+            let Some(c) = robot.choose() else {
+                return;
+            };
+            self.choice_ready = now + timing.choice;
+            if robot.config().policy == Policy::Ru {
+                // Particles: nobody waits for an RU robot, nobody acknowledges it.
+                out.motor = Some((Motor::Go(c), self.choice_ready));
+                self.phase = Phase::Committed;
+                return;
+            }
+            let at = robot.position();
+            let accounted = robot.accounted().to_vec();
+            self.ack_deadline = self.choice_ready + timing.wait;
+            self.send(out, Frame::Choice { round, from: me, at, next: c, accounted }, self.choice_ready);
+        }
+        let robot = self.robot.as_ref().expect("started");
+        let (pos, c) = (robot.position(), robot.choice().expect("chosen"));
+        if c == pos {
+            self.commit(now, false, out);
+            return;
+        }
+        match self.acks(c) {
+            Acks::Complete => self.commit(now, true, out),
+            Acks::Conflict => {
+                out.notes.push(Note::Unsure);
+                self.commit(now, false, out);
+            }
+            Acks::Waiting if now >= self.ack_deadline => {
+                out.notes.push(Note::Unsure);
+                self.commit(now, false, out);
+            }
+            Acks::Waiting => {}
+        }
+    }
+
+    /// Whether every neighbour heard this slot has acknowledged the choice
+    /// `c`, or announced one that is safe beside it.
+    fn acks(&self, c: VertexId) -> Acks {
+        let robot = self.robot.as_ref().expect("started");
+        let pos = robot.position();
+        let mut waiting = false;
+        for h in &self.heard {
+            if h.halted || !(h.map || h.choice.is_some()) {
+                continue;
+            }
+            if h.refused_me {
+                return Acks::Conflict;
+            }
+            let safe_choice = h.choice.is_some_and(|hc| {
+                robot.accounted().contains(&h.id) || h.accounted_me || compatible(robot, pos, c, h.at, hc)
+            });
+            if !(safe_choice || h.acked_me) {
+                if h.choice.is_some() {
+                    // Known, not avoided on either side, and in conflict.
+                    return Acks::Conflict;
+                }
+                waiting = true;
+            }
+            if c == h.at {
+                match h.commit {
+                    Some(true) => {}
+                    Some(false) => return Acks::Conflict,
+                    None => waiting = true,
+                }
+            }
+        }
+        if waiting {
+            Acks::Waiting
+        } else {
+            Acks::Complete
+        }
+    }
+
+    fn commit(&mut self, now: Time, moving: bool, out: &mut Output<Frame>) {
+        let robot = self.robot.as_ref().expect("started");
+        let (pos, c) = (robot.position(), robot.choice().expect("chosen"));
+        let when = now.max(self.choice_ready);
+        out.motor = Some((Motor::Go(if moving { c } else { pos }), when));
+        if c != pos {
+            self.send(out, Frame::Commit { round: self.round, from: self.id(), moving }, when);
+        }
+        self.phase = Phase::Committed;
+    }
+}
+
+/// Whether the moves `a0 -> a1` and `b0 -> b1`, made at once, keep the two
+/// robots `2 r_safe` apart. (Following into `b0` is compatible here; it
+/// also needs `b`'s commit.)
+fn compatible(robot: &Robot, a0: VertexId, a1: VertexId, b0: VertexId, b1: VertexId) -> bool {
+    let g = robot.grid();
+    a1 != b1
+        && swept_min_distance(g.position(a0), g.position(a1), g.position(b0), g.position(b1)) >= 2.0 * robot.config().r_safe
+}

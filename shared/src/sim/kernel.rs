@@ -1,0 +1,633 @@
+//! The world's event loop: slots, wake-ups, the radio, motor commands,
+//! faults. Generic over how robots are reached ([`Robots`]), so the
+//! in-process engine and the world-server run this same loop.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use super::medium::Medium;
+use super::stats::{FailureRecord, ProtocolStats};
+use super::{micros, seconds, Delivery, Fault, FaultKind, Motor, Note, Output, Robots, Tick, Time, WakeCall};
+use crate::engine::RASTER_CELL;
+use crate::geometry::Point;
+use crate::grid::VertexId;
+use crate::map::RobotId;
+use crate::outcome::{Pose, RunConfig, RunResult};
+use crate::params::Situation;
+use crate::referee::Referee;
+use crate::world::World;
+
+/// A run's settings for the world.
+pub type Settings = RunConfig;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Body {
+    Running,
+    Frozen,
+    Dead,
+}
+
+#[derive(Debug)]
+enum Ev<P> {
+    SlotStart,
+    Deliver { to: u32, d: Delivery<P> },
+    Alarm { robot: u32, gen: u64 },
+    Fault(usize),
+    /// A slow robot's delayed wake-up.
+    React { robot: u32 },
+    /// Every motor command is in; the slot ends when the last one is due.
+    Close { round: u32 },
+    /// The slot's hard limit.
+    Limit { round: u32 },
+}
+
+struct Entry<P> {
+    time: Time,
+    seq: u64,
+    ev: Ev<P>,
+}
+
+impl<P> PartialEq for Entry<P> {
+    fn eq(&self, o: &Self) -> bool {
+        (self.time, self.seq) == (o.time, o.seq)
+    }
+}
+impl<P> Eq for Entry<P> {}
+impl<P> PartialOrd for Entry<P> {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl<P> Ord for Entry<P> {
+    // Earliest first in a max-heap.
+    fn cmp(&self, o: &Self) -> Ordering {
+        (o.time, o.seq).cmp(&(self.time, self.seq))
+    }
+}
+
+struct Bot<P> {
+    body: Body,
+    halted: bool,
+    listen: bool,
+    alarm_gen: u64,
+    alarm_due: bool,
+    tick_due: bool,
+    marked: bool,
+    react_pending: bool,
+    react_now: bool,
+    slow: Time,
+    pending: Vec<Delivery<P>>,
+    motor: Option<VertexId>,
+    tx_seq: u64,
+    /// Last round this robot was running and searching at a slot's end.
+    active_until: Option<u32>,
+}
+
+/// The world of one run.
+pub struct Kernel<'w, P> {
+    world: &'w World,
+    cfg: &'w RunConfig,
+    referee: Referee<'w>,
+    medium: Medium,
+    queue: BinaryHeap<Entry<P>>,
+    seq: u64,
+    bots: Vec<Bot<P>>,
+    marked: Vec<u32>,
+    starts: Vec<VertexId>,
+    round: u32,
+    now: Time,
+    slot_start: Time,
+    slot_open: bool,
+    close_scheduled: bool,
+    last_motor: Time,
+    ended: Option<&'static str>,
+    exchange: Time,
+    slot_limit: Time,
+    stats: ProtocolStats,
+    collisions: u32,
+    robot_rounds: u64,
+    round_end_times: Vec<f64>,
+    trajectories: Vec<Vec<Pose>>,
+    /// `(failure record, robot, round)`: robots that timed out waiting on a failed robot.
+    waiters: Vec<(usize, RobotId, u32)>,
+}
+
+impl<'w, P: Clone> Kernel<'w, P> {
+    pub fn new(world: &'w World, starts: &[VertexId], cfg: &'w RunConfig) -> Self {
+        let n = starts.len();
+        let p = &world.params;
+        let exchange = micros(p.t_exchange);
+        let wait = micros(p.t_wait);
+        // The protocol's own bound (exchange, a wait for choices, the choice,
+        // a wait for acknowledgements, a few hops), with room for slow robots.
+        let slot_limit = exchange + 4 * wait + micros(p.t_choice) + 20 * micros(p.t_hop);
+        let bots = (0..n)
+            .map(|_| Bot {
+                body: Body::Running,
+                halted: false,
+                listen: false,
+                alarm_gen: 0,
+                alarm_due: false,
+                tick_due: false,
+                marked: false,
+                react_pending: false,
+                react_now: false,
+                slow: 0,
+                pending: Vec::new(),
+                motor: None,
+                tx_seq: 0,
+                active_until: None,
+            })
+            .collect();
+        let mut k = Kernel {
+            world,
+            cfg,
+            referee: Referee::new(world, starts),
+            medium: Medium::new(cfg.seed, cfg.radio, micros(p.t_hop), p.r_c, n),
+            queue: BinaryHeap::new(),
+            seq: 0,
+            bots,
+            marked: Vec::with_capacity(n),
+            starts: starts.to_vec(),
+            round: 0,
+            now: 0,
+            slot_start: 0,
+            slot_open: false,
+            close_scheduled: false,
+            last_motor: 0,
+            ended: None,
+            exchange,
+            slot_limit,
+            stats: ProtocolStats::default(),
+            collisions: 0,
+            robot_rounds: 0,
+            round_end_times: Vec::new(),
+            trajectories: if cfg.record_trajectories { vec![Vec::new(); n] } else { Vec::new() },
+            waiters: Vec::new(),
+        };
+        k.record_poses();
+        k.push(0, Ev::SlotStart);
+        k
+    }
+
+    fn push(&mut self, time: Time, ev: Ev<P>) {
+        self.seq += 1;
+        self.queue.push(Entry { time, seq: self.seq, ev });
+    }
+
+    fn mark(&mut self, r: usize) {
+        if !self.bots[r].marked {
+            self.bots[r].marked = true;
+            self.marked.push(r as u32);
+        }
+    }
+
+    fn record_poses(&mut self) {
+        let grid = &self.world.grid;
+        for (k, t) in self.trajectories.iter_mut().enumerate() {
+            let v = self.referee.position(k);
+            t.push(Pose { vertex: Some(grid.coord(v)), position: grid.position(v) });
+        }
+    }
+
+    /// Runs the search to its end.
+    pub fn run<R: Robots<Payload = P>>(mut self, robots: &mut R) -> RunResult {
+        let mut calls = Vec::new();
+        let mut ids = Vec::new();
+        let mut outs = Vec::new();
+        while self.ended.is_none() {
+            let Some(t) = self.queue.peek().map(|e| e.time) else {
+                // Nothing can happen any more: a robot waits with no alarm.
+                self.close_slot(true);
+                continue;
+            };
+            self.now = t;
+            while self.queue.peek().is_some_and(|e| e.time == t) && self.ended.is_none() {
+                let e = self.queue.pop().expect("peeked");
+                self.handle(e.ev, robots);
+            }
+            if self.ended.is_some() {
+                break;
+            }
+            self.collect(&mut calls, &mut ids);
+            if !calls.is_empty() {
+                self.stats.wakes += calls.len() as u64;
+                robots.wake(std::mem::take(&mut calls), &mut outs);
+                for (k, out) in outs.drain(..).enumerate() {
+                    self.apply(ids[k], out);
+                }
+            }
+            self.check_close();
+        }
+        self.finish()
+    }
+
+    fn handle<R: Robots<Payload = P>>(&mut self, ev: Ev<P>, robots: &mut R) {
+        match ev {
+            Ev::SlotStart => self.begin_slot(),
+            Ev::Deliver { to, d } => {
+                let b = &mut self.bots[to as usize];
+                if b.body == Body::Dead {
+                    return;
+                }
+                b.pending.push(d);
+                if b.body == Body::Running && b.listen {
+                    self.mark(to as usize);
+                }
+            }
+            Ev::Alarm { robot, gen } => {
+                let b = &mut self.bots[robot as usize];
+                if b.alarm_gen == gen && b.body != Body::Dead {
+                    b.alarm_due = true;
+                    if b.body == Body::Running {
+                        self.mark(robot as usize);
+                    }
+                }
+            }
+            Ev::Fault(i) => {
+                let f = self.cfg.faults[i];
+                robots.inject(&f, self.now);
+                self.apply_fault(&f);
+            }
+            Ev::React { robot } => {
+                let b = &mut self.bots[robot as usize];
+                b.react_pending = false;
+                b.react_now = true;
+                self.mark(robot as usize);
+            }
+            Ev::Close { round } => {
+                if round == self.round {
+                    self.close_scheduled = false;
+                }
+            }
+            Ev::Limit { round } => {
+                if round == self.round && self.slot_open {
+                    self.close_slot(true);
+                }
+            }
+        }
+    }
+
+    fn apply_fault(&mut self, f: &Fault) {
+        let r = f.robot;
+        if r >= self.bots.len() {
+            return;
+        }
+        let now = self.now;
+        let body = self.bots[r].body;
+        match f.kind {
+            FaultKind::Crash if body != Body::Dead => {
+                let b = &mut self.bots[r];
+                b.body = Body::Dead;
+                b.pending.clear();
+                self.open_record(r, "crash");
+            }
+            FaultKind::Freeze if body == Body::Running => {
+                self.bots[r].body = Body::Frozen;
+                self.open_record(r, "freeze");
+            }
+            FaultKind::Thaw if body == Body::Frozen => {
+                self.bots[r].body = Body::Running;
+                // Its sensors are read afresh: it must know the slot it is in.
+                self.bots[r].tick_due = true;
+                self.mark(r);
+                if let Some(rec) = self.stats.failures.iter_mut().rev().find(|x| x.robot as usize == r && x.kind == "freeze") {
+                    rec.thawed_s.get_or_insert(seconds(now));
+                }
+            }
+            FaultKind::Slow(s) => self.bots[r].slow = s,
+            _ => {}
+        }
+    }
+
+    fn open_record(&mut self, r: usize, kind: &str) {
+        self.stats.failures.push(FailureRecord {
+            robot: r as RobotId,
+            kind: kind.to_string(),
+            round: self.round,
+            at_s: seconds(self.now),
+            ..Default::default()
+        });
+    }
+
+    /// The failure record of robot `j` that is in force now, if any.
+    fn record_of(&self, j: usize) -> Option<usize> {
+        let b = self.bots.get(j)?;
+        if b.body == Body::Running {
+            return None;
+        }
+        self.stats.failures.iter().rposition(|x| x.robot as usize == j && x.thawed_s.is_none())
+    }
+
+    fn begin_slot(&mut self) {
+        self.slot_start = self.now;
+        self.slot_open = true;
+        self.close_scheduled = false;
+        self.last_motor = self.now;
+        let grid = &self.world.grid;
+        let positions: Vec<Point> = self.referee.positions().iter().map(|&v| grid.position(v)).collect();
+        self.medium.relink(&positions);
+        for r in 0..self.bots.len() {
+            let b = &mut self.bots[r];
+            b.motor = None;
+            if b.body != Body::Dead {
+                b.tick_due = true;
+                if b.body == Body::Running {
+                    self.mark(r);
+                }
+            }
+        }
+        for (i, f) in self.cfg.faults.iter().enumerate() {
+            if f.round == self.round {
+                self.push(self.now + f.offset, Ev::Fault(i));
+            }
+        }
+        let round = self.round;
+        self.push(self.now + self.slot_limit, Ev::Limit { round });
+    }
+
+    fn tick(&mut self, r: usize) -> Tick {
+        let (open, occupied) = self.referee.sonar(r);
+        let targets = self.referee.laser(r).to_vec();
+        Tick { round: self.round, start: self.slot_start, at: self.referee.position(r), open, occupied, targets }
+    }
+
+    /// The wake-ups due now, robot by robot in ascending order.
+    fn collect(&mut self, calls: &mut Vec<WakeCall<P>>, ids: &mut Vec<usize>) {
+        calls.clear();
+        ids.clear();
+        let mut marked = std::mem::take(&mut self.marked);
+        marked.sort_unstable();
+        for &r in &marked {
+            let r = r as usize;
+            self.bots[r].marked = false;
+            if self.bots[r].body != Body::Running {
+                continue;
+            }
+            let b = &mut self.bots[r];
+            if b.slow > 0 && !b.react_now {
+                if !b.react_pending {
+                    b.react_pending = true;
+                    let at = self.now + b.slow;
+                    self.push(at, Ev::React { robot: r as u32 });
+                }
+                continue;
+            }
+            b.react_now = false;
+            let tick = if std::mem::take(&mut self.bots[r].tick_due) { Some(self.tick(r)) } else { None };
+            let b = &mut self.bots[r];
+            calls.push(WakeCall {
+                robot: r,
+                now: self.now,
+                tick,
+                alarm: std::mem::take(&mut b.alarm_due),
+                frames: std::mem::take(&mut b.pending),
+            });
+            ids.push(r);
+        }
+        marked.clear();
+        self.marked = marked;
+    }
+
+    fn apply(&mut self, r: usize, out: Option<Output<P>>) {
+        let Some(out) = out else {
+            // Its process is gone: physics, not a scheduled fault.
+            if self.bots[r].body != Body::Dead {
+                self.bots[r].body = Body::Dead;
+                self.bots[r].pending.clear();
+                self.open_record(r, "died");
+            }
+            return;
+        };
+        let now = self.now;
+        for tx in out.send {
+            self.transmit(r, tx.payload, tx.ready.max(now), tx.copies);
+        }
+        if let Some((m, t)) = out.motor {
+            let b = &mut self.bots[r];
+            if self.slot_open && b.motor.is_none() && !b.halted {
+                match m {
+                    Motor::Go(v) => b.motor = Some(v),
+                    Motor::Halt => b.halted = true,
+                }
+                self.last_motor = self.last_motor.max(t.max(now));
+            }
+        }
+        let b = &mut self.bots[r];
+        b.alarm_gen += 1;
+        b.listen = out.listen;
+        if let Some(t) = out.alarm {
+            let gen = b.alarm_gen;
+            self.push(t.max(now), Ev::Alarm { robot: r as u32, gen });
+        }
+        for note in out.notes {
+            self.note(r, note);
+        }
+    }
+
+    fn transmit(&mut self, r: usize, payload: P, ready: Time, copies: u8) {
+        let copies = copies.max(1);
+        let st = &mut self.stats;
+        st.frames += 1;
+        st.transmissions += copies as u64;
+        st.retransmissions += copies as u64 - 1;
+        let seq = self.bots[r].tx_seq;
+        self.bots[r].tx_seq += 1;
+        let from = r as RobotId;
+        for k in 0..self.medium.links(r).len() {
+            let to = self.medium.links(r)[k];
+            let fate = self.medium.fate(r, seq, to as usize, ready, copies);
+            self.stats.lost += fate.lost as u64;
+            if let Some(at) = fate.arrival {
+                self.stats.deliveries += 1;
+                self.push(at, Ev::Deliver { to, d: Delivery { from, at, payload: payload.clone() } });
+            }
+            if let Some(at) = fate.duplicate {
+                self.stats.duplicated += 1;
+                self.push(at, Ev::Deliver { to, d: Delivery { from, at, payload: payload.clone() } });
+            }
+        }
+    }
+
+    fn note(&mut self, r: usize, note: Note) {
+        let st = &mut self.stats;
+        match note {
+            Note::Declared { robot } => {
+                st.declarations += 1;
+                let j = robot as usize;
+                if self.bots.get(j).is_some_and(|b| b.body == Body::Running) {
+                    self.stats.false_suspicions += 1;
+                }
+                if let Some(i) = self.record_of(j) {
+                    let (round, now) = (self.round, seconds(self.now));
+                    let rec = &mut self.stats.failures[i];
+                    if rec.detected_round.is_none() {
+                        rec.detected_round = Some(round);
+                        rec.detected_s = Some(now);
+                    }
+                    if !rec.declared_by.contains(&(r as RobotId)) {
+                        rec.declared_by.push(r as RobotId);
+                    }
+                }
+            }
+            Note::Rejoined { .. } => st.rejoins += 1,
+            Note::TimedOut { robot } => {
+                st.timeouts += 1;
+                if let Some(i) = self.record_of(robot as usize) {
+                    self.waiters.push((i, r as RobotId, self.round));
+                }
+            }
+            Note::Unsure => st.unsure += 1,
+            Note::Stopped { ends_search, relayed } => {
+                if ends_search && !relayed && st.stop_round.is_none() {
+                    st.stop_round = Some(self.round);
+                    st.stop_s = Some(seconds(self.now));
+                }
+            }
+            Note::Stale => st.stale += 1,
+            Note::Malformed => st.malformed += 1,
+        }
+    }
+
+    /// Whether a robot still owes a motor command this slot.
+    fn owes_motor(b: &Bot<P>) -> bool {
+        b.body == Body::Running && !b.halted && b.motor.is_none()
+    }
+
+    fn check_close(&mut self) {
+        if !self.slot_open || self.close_scheduled || self.bots.iter().any(Self::owes_motor) {
+            return;
+        }
+        // With nobody running the clock still turns: a slot lasts at least the exchange.
+        let searching = self.bots.iter().any(|b| b.body == Body::Running && !b.halted);
+        let at = if searching { self.last_motor } else { self.last_motor.max(self.slot_start + self.exchange) };
+        if at > self.now {
+            self.close_scheduled = true;
+            let round = self.round;
+            self.push(at, Ev::Close { round });
+        } else {
+            self.close_slot(false);
+        }
+    }
+
+    fn close_slot(&mut self, forced: bool) {
+        if !self.slot_open {
+            // Nothing scheduled and no slot to close: the run cannot go on.
+            self.ended = Some("no_robots");
+            return;
+        }
+        self.slot_open = false;
+        if forced {
+            self.stats.forced_slots += 1;
+            self.last_motor = self.last_motor.max(self.now);
+        }
+        let before: Vec<VertexId> = self.referee.positions().to_vec();
+        let next: Vec<VertexId> = self.bots.iter().zip(&before).map(|(b, &p)| b.motor.unwrap_or(p)).collect();
+        let report = self.referee.execute(&next);
+        let moved = next.iter().zip(&before).filter(|(a, b)| a != b).count() as u64;
+        self.stats.moves += moved - report.refused as u64;
+        self.stats.refused += report.refused as u64;
+        self.collisions += report.collisions;
+        let p = &self.world.params;
+        let mut dur = self.last_motor - self.slot_start;
+        if report.rotated {
+            dur += micros(p.t_rot);
+        }
+        if report.translated {
+            dur += micros(p.t_trans);
+        }
+        dur += report.collisions as Time * micros(p.move_time());
+        let end = self.slot_start + dur;
+        self.round_end_times.push(seconds(end));
+        let mut searching = 0;
+        for b in self.bots.iter_mut() {
+            if b.body == Body::Running && !b.halted {
+                searching += 1;
+                b.active_until = Some(self.round);
+            }
+        }
+        self.robot_rounds += searching;
+        self.round += 1;
+        self.record_poses();
+        if self.stats.stop_round.is_some() {
+            // Step 8: the stop reaches the human controller, and the record
+            // of the search ends with this slot. No robot is told anything:
+            // those the flood reached this slot have stopped, the others
+            // would learn it from the robots they meet.
+            self.ended = Some("stop");
+        } else if self.round >= self.cfg.max_rounds && searching_left(&self.bots) {
+            self.ended = Some("max_rounds");
+        } else if !searching_left(&self.bots) && !self.thaw_ahead() {
+            self.ended = Some(if self.bots.iter().any(|b| b.halted && b.body != Body::Dead) { "cut_off" } else { "no_robots" });
+        } else if self.round >= self.cfg.max_rounds {
+            self.ended = Some("max_rounds");
+        } else {
+            self.now = end;
+            self.push(end, Ev::SlotStart);
+        }
+    }
+
+    /// Whether a frozen robot is due to thaw later.
+    fn thaw_ahead(&self) -> bool {
+        self.cfg.faults.iter().any(|f| {
+            f.kind == FaultKind::Thaw && self.bots.get(f.robot).is_some_and(|b| b.body == Body::Frozen) && f.round >= self.round
+        }) || self
+            .queue
+            .iter()
+            .any(|e| matches!(e.ev, Ev::Fault(i) if self.cfg.faults[i].kind == FaultKind::Thaw))
+    }
+
+    fn finish(mut self) -> RunResult {
+        let world = self.world;
+        let ended = self.ended.unwrap_or("max_rounds");
+        self.stats.ended_by = ended.to_string();
+        let dead: Vec<VertexId> =
+            (0..self.bots.len()).filter(|&k| self.bots[k].body != Body::Running).map(|k| self.referee.position(k)).collect();
+        let complete = match self.cfg.situation {
+            Situation::One => self.stats.stop_round.is_some() && self.referee.found().count() == world.targets.len(),
+            Situation::Two if matches!(ended, "stop" | "cut_off") => {
+                let live: Vec<VertexId> =
+                    (0..self.bots.len()).filter(|&k| self.bots[k].body == Body::Running).map(|k| self.referee.position(k)).collect();
+                let va = if dead.is_empty() { world.reachable_from(&self.starts) } else { world.reachable_avoiding(&live, &dead) };
+                (0..world.grid.len()).all(|v| !va[v] || self.referee.visited().get(v))
+            }
+            Situation::Two => false,
+        };
+        // Robots that waited on a failed robot and kept searching long
+        // enough to declare it, but never did.
+        let grace = world.params.suspect_rounds + 1;
+        for &(i, w, round) in &self.waiters {
+            let rec = &self.stats.failures[i];
+            let kept_on = self.bots[w as usize].active_until.is_some_and(|a| a >= round + grace);
+            if kept_on && !rec.declared_by.contains(&w) && rec.thawed_s.is_none() && !rec.unaware.contains(&w) {
+                self.stats.failures[i].unaware.push(w);
+            }
+        }
+        let coverage = self.cfg.measure_coverage.then(|| {
+            let centres: Vec<Point> = self.referee.visited().iter().map(|v| world.grid.position(v as VertexId)).collect();
+            world.raster(RASTER_CELL * world.params.a).detected_fraction(centres, world.params.r_st)
+        });
+        let search_time_s = self.stats.stop_s.unwrap_or_else(|| self.round_end_times.last().copied().unwrap_or(0.0));
+        RunResult {
+            algorithm: self.cfg.policy,
+            robots: self.bots.len(),
+            seed: self.cfg.seed,
+            situation: self.cfg.situation.number(),
+            rounds: self.round,
+            search_time_s,
+            targets_found: self.referee.found().count(),
+            targets_total: world.targets.len(),
+            collisions: self.collisions,
+            coverage,
+            complete,
+            robot_rounds: self.robot_rounds,
+            trajectories: self.trajectories,
+            round_end_times_s: self.round_end_times,
+            protocol: self.stats,
+        }
+    }
+}
+
+fn searching_left<P>(bots: &[Bot<P>]) -> bool {
+    bots.iter().any(|b| b.body == Body::Running && !b.halted)
+}

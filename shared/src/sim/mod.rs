@@ -1,0 +1,204 @@
+//! The physical world as a discrete-event simulation, shared by both
+//! engines: the clock, the radio medium, the robots' bodies (sensors,
+//! motors, collisions) and the faults injected into them.
+//!
+//! The world never reads a radio frame (its payload type is opaque here),
+//! never tells a robot anything it did not sense or hear, and never decides
+//! for one. What it does:
+//!
+//! - keeps the clock: slot `k` starts with every robot's sensor readings
+//!   ([`Tick`]); a robot asks to be woken at a time ([`Output::alarm`]) and,
+//!   if it [`Output::listen`]s, when a frame reaches it;
+//! - carries frames ([`medium`]): to every robot within `r_c` of the sender,
+//!   after the frame's latency, lost, delayed or duplicated as the run's
+//!   radio settings say, every draw a pure function of the seed;
+//! - executes motor commands at the end of the slot, all at once, and
+//!   referees collisions; it closes a slot early once every robot that is
+//!   physically running and still searching has given its motor command;
+//! - injects faults at given simulated times ([`Fault`]).
+//!
+//! Time is simulated, in microseconds. Robots that are woken at the same
+//! instant are woken together, and their outputs applied in robot order, so
+//! a run is the same whether the robots are function calls
+//! ([`crate::engine`]) or processes (`world-server`).
+
+pub mod kernel;
+pub mod medium;
+pub mod schedule;
+pub mod stats;
+
+use serde::{Deserialize, Serialize};
+
+use crate::grid::VertexId;
+use crate::map::RobotId;
+
+pub use kernel::{Kernel, Settings};
+pub use medium::Radio;
+pub use stats::{FailureRecord, ProtocolStats};
+
+/// Simulated time in microseconds.
+pub type Time = u64;
+
+/// Seconds to [`Time`], rounded to the microsecond.
+pub fn micros(seconds: f64) -> Time {
+    (seconds * 1e6).round().max(0.0) as Time
+}
+
+/// [`Time`] to seconds.
+pub fn seconds(t: Time) -> f64 {
+    t as f64 / 1e6
+}
+
+/// A robot's sensor readings at the start of a slot, and the slot it is.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Tick {
+    pub round: u32,
+    /// When the slot started (the synchronized clock).
+    pub start: Time,
+    /// Where the robot stands (odometry).
+    pub at: VertexId,
+    /// Adjacency slots whose edge is free of obstacles and boundary (sonar).
+    pub open: u8,
+    /// Adjacency slots whose vertex holds another robot (sonar).
+    pub occupied: u8,
+    /// Targets within `r_st` (laser).
+    pub targets: Vec<u32>,
+}
+
+/// A frame that reached a robot: who transmitted it and when it arrived.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Delivery<P> {
+    pub from: RobotId,
+    pub at: Time,
+    pub payload: P,
+}
+
+/// One wake-up of one robot.
+#[derive(Clone, Debug)]
+pub struct WakeCall<P> {
+    pub robot: usize,
+    pub now: Time,
+    /// The readings of a slot the robot has not seen yet.
+    pub tick: Option<Tick>,
+    /// Its alarm went off.
+    pub alarm: bool,
+    /// Frames that reached it since it last woke, in arrival order.
+    pub frames: Vec<Delivery<P>>,
+}
+
+/// A frame to broadcast.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Transmit<P> {
+    pub payload: P,
+    /// When the radio starts sending (after the robot's own computing).
+    pub ready: Time,
+    /// Transmissions of the same frame (1 + retries), `t_hop` apart.
+    pub copies: u8,
+}
+
+/// A motor command for the current slot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Motor {
+    /// Go to this vertex at the end of the slot (its own vertex to stay).
+    Go(VertexId),
+    /// Stop searching for good: stay, and give no more motor commands.
+    Halt,
+}
+
+/// What a robot records for the experimenter. The world keeps these for
+/// the report and never acts on them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Note {
+    /// It declared `robot` failed.
+    Declared { robot: RobotId },
+    /// It heard `robot`, once declared failed, alive again.
+    Rejoined { robot: RobotId },
+    /// It gave up waiting for `robot`'s choice this round.
+    TimedOut { robot: RobotId },
+    /// It stayed for want of acknowledgements.
+    Unsure,
+    /// It stopped searching; `ends_search` when its stop ends the search
+    /// for everyone, `relayed` when it stopped on another robot's stop.
+    Stopped { ends_search: bool, relayed: bool },
+    /// It dropped a frame of another round.
+    Stale,
+    /// It dropped a frame it could not decode or that lied about its sender.
+    Malformed,
+}
+
+/// A robot's answer to one wake-up.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Output<P> {
+    pub send: Vec<Transmit<P>>,
+    /// The motor command of the current slot, and when it was given.
+    pub motor: Option<(Motor, Time)>,
+    /// When to wake it next (replaces any earlier alarm; `None` cancels).
+    pub alarm: Option<Time>,
+    /// Whether a frame reaching it should wake it.
+    pub listen: bool,
+    pub notes: Vec<Note>,
+}
+
+impl<P> Default for Output<P> {
+    fn default() -> Self {
+        Output { send: Vec::new(), motor: None, alarm: None, listen: false, notes: Vec::new() }
+    }
+}
+
+impl<P> Output<P> {
+    pub fn clear(&mut self) {
+        self.send.clear();
+        self.motor = None;
+        self.alarm = None;
+        self.listen = false;
+        self.notes.clear();
+    }
+}
+
+/// The robots as the world sees them: bodies it can wake.
+pub trait Robots {
+    /// What a frame is to the world: bytes, or a shared value in-process.
+    type Payload: Clone;
+
+    /// Wakes every robot of `calls` (distinct, in ascending order) at once.
+    /// `outputs[k]` answers `calls[k]`; `None` when that robot turned out to
+    /// be dead (its process gone).
+    fn wake(&mut self, calls: Vec<WakeCall<Self::Payload>>, outputs: &mut Vec<Option<Output<Self::Payload>>>);
+
+    /// A scheduled fault happens now; the distributed engine pauses here
+    /// while the fault is applied to the robot's process.
+    fn inject(&mut self, _fault: &Fault, _now: Time) {}
+}
+
+/// What happens to a robot's body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FaultKind {
+    /// It dies: no more computing, no radio; its body stays where it is.
+    Crash,
+    /// It stops computing (frames reaching it wait) until a `Thaw`.
+    Freeze,
+    /// It computes again.
+    Thaw,
+    /// From now on it reacts this many microseconds late (0: on time again).
+    Slow(Time),
+}
+
+impl FaultKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            FaultKind::Crash => "crash",
+            FaultKind::Freeze => "freeze",
+            FaultKind::Thaw => "thaw",
+            FaultKind::Slow(_) => "slow",
+        }
+    }
+}
+
+/// A fault at `offset` after the start of slot `round`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Fault {
+    pub robot: usize,
+    pub round: u32,
+    pub offset: Time,
+    pub kind: FaultKind,
+}
