@@ -9,7 +9,7 @@ use crate::policy::Policy;
 use crate::sim::{FaultKind, ProtocolStats, Radio};
 
 /// One run's settings beyond the world and the start vertices.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunConfig {
     pub policy: Policy,
     pub seed: u64,

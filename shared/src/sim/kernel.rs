@@ -224,7 +224,10 @@ impl<'w, P: Clone> Kernel<'w, P> {
 
     fn handle<R: Robots<Payload = P>>(&mut self, ev: Ev<P>, robots: &mut R) {
         match ev {
-            Ev::SlotStart => self.begin_slot(),
+            Ev::SlotStart => {
+                robots.slot_started(self.round, self.now);
+                self.begin_slot();
+            }
             Ev::Deliver { to, d } => {
                 let b = &mut self.bots[to as usize];
                 if b.body == Body::Dead {

@@ -165,6 +165,9 @@ pub trait Robots {
     /// be dead (its process gone).
     fn wake(&mut self, calls: Vec<WakeCall<Self::Payload>>, outputs: &mut Vec<Option<Output<Self::Payload>>>);
 
+    /// Slot `round` starts at simulated time `now` (for wall-clock measures).
+    fn slot_started(&mut self, _round: u32, _now: Time) {}
+
     /// A scheduled fault happens now; the distributed engine pauses here
     /// while the fault is applied to the robot's process.
     fn inject(&mut self, _fault: &Fault, _now: Time) {}
