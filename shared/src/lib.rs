@@ -27,6 +27,7 @@ pub mod setup;
 pub mod referee;
 pub mod protocol;
 pub mod assumptions;
+pub mod vopr;
 /// The distributed engine's shared pieces (iceoryx2 config, names, cleanup).
 #[cfg(feature = "ipc")]
 pub mod ipc;

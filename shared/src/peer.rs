@@ -144,6 +144,9 @@ pub struct Peer<'g> {
     flooded: Bitset,
     acks: Vec<RobotId>,
     refusals: Vec<RobotId>,
+    /// Adjacent vertices where the sonar finds a robot nobody heard, and
+    /// for how many slots in a row.
+    silent: Vec<(VertexId, u32)>,
 }
 
 impl<'g> Peer<'g> {
@@ -165,6 +168,7 @@ impl<'g> Peer<'g> {
             flooded: Bitset::new(0),
             acks: Vec::new(),
             refusals: Vec::new(),
+            silent: Vec::new(),
         }
     }
 
@@ -273,14 +277,10 @@ impl<'g> Peer<'g> {
         robot.sense(tick.round, &Sensing { open: tick.open, occupied: tick.occupied, targets: &tick.targets });
         let me = robot.id();
         let halted = self.phase == Phase::Halted;
+        // Woken after the exchange (frozen, or slow): it takes part all the
+        // same with the maps already heard; its own map reaches the others
+        // late, and those that hear it wait for its answer like any other's.
         let window_end = tick.start + self.cfg.timing.exchange;
-        if !halted && now >= window_end {
-            // Woken after the exchange (it was frozen): it sits this slot out
-            // where it stands, silent, and takes part again from the next.
-            out.motor = Some((Motor::Go(tick.at), now));
-            self.phase = Phase::Committed;
-            return;
-        }
         let map = robot.map().clone();
         self.send(out, Frame::Map { round: tick.round, from: me, at: tick.at, halted, stop: self.stop_known, map }, now);
         if self.cfg.robot.situation == Situation::One {
@@ -462,16 +462,47 @@ impl<'g> Peer<'g> {
             }
         }
         self.expected = expected;
+        self.find_bodies();
         if self.stop_known {
             self.halt(now, true, true, out);
             return;
         }
+        let robot = self.robot.as_mut().expect("started");
         if let Some(stop) = robot.stop_rule() {
             self.halt(now, stop.ends_search(), false, out);
             return;
         }
         self.phase = Phase::Choosing;
         self.deadline = self.window_end + self.cfg.timing.wait;
+    }
+
+    /// The sonar's occupied neighbours that no map of this slot accounts
+    /// for are silent robots; after `suspect_rounds` slots in a row they
+    /// block their vertex as bodies (robots this one never heard fail).
+    fn find_bodies(&mut self) {
+        let robot = self.robot.as_mut().expect("started");
+        let (grid, pos, occupied) = (self.grid, robot.position(), robot.occupied());
+        let mut silent = Vec::new();
+        for (d, &v) in grid.neighbors(pos)[..grid.degree()].iter().enumerate() {
+            if v == crate::grid::NONE {
+                continue;
+            }
+            if occupied >> d & 1 == 0 {
+                robot.clear_body(v);
+                continue;
+            }
+            let explained = self.heard.iter().any(|h| h.map && h.at == v)
+                || robot.map().failed_now().any(|(_, at)| at == v);
+            if explained {
+                continue;
+            }
+            let seen = 1 + self.silent.iter().find(|s| s.0 == v).map_or(0, |s| s.1);
+            if seen >= self.cfg.timing.suspect_rounds {
+                robot.mark_body(v);
+            }
+            silent.push((v, seen));
+        }
+        self.silent = silent;
     }
 
     fn halt(&mut self, now: Time, ends_search: bool, relayed: bool, out: &mut Output<Frame>) {

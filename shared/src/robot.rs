@@ -112,6 +112,9 @@ pub struct Robot<'g> {
     next: Option<VertexId>,
     /// Neighbours whose announced choices the last choice avoided.
     accounted: Vec<RobotId>,
+    /// Vertices where the sonar keeps finding a robot nobody hears: bodies
+    /// of robots this one never knew. Its own knowledge, not spread.
+    bodies: Vec<VertexId>,
     bfs: Bfs,
 }
 
@@ -129,6 +132,7 @@ impl<'g> Robot<'g> {
             occupied_now: 0,
             next: None,
             accounted: Vec::with_capacity(8),
+            bodies: Vec::new(),
             bfs: Bfs::default(),
         }
     }
@@ -227,7 +231,17 @@ impl<'g> Robot<'g> {
         n.at = at;
         n.map_in = true;
         n.halted |= halted;
+        if halted {
+            // A robot that stopped searching never moves again: its vertex
+            // is blocked for good, like a body.
+            self.mark_body(at);
+        }
         self.map.merge(map);
+        if self.map.is_failed(self.cfg.id) {
+            // Declared failed while it was frozen or unheard: it knows
+            // better, and its map now says so to everyone it meets.
+            self.map.revive(self.cfg.id, self.round);
+        }
         self.refresh_failed();
         true
     }
@@ -253,7 +267,7 @@ impl<'g> Robot<'g> {
         // unvisited vertices off; those can never be visited and must not
         // keep this robot going. Only with failures, so a failure-free run
         // decides exactly as before.
-        if self.map.any_failed() && self.step_to_unvisited().is_none() {
+        if (self.map.any_failed() || !self.bodies.is_empty()) && self.step_to_unvisited().is_none() {
             return Some(Stop::CutOff);
         }
         None
@@ -269,6 +283,25 @@ impl<'g> Robot<'g> {
         if let Some(n) = self.nbrs.iter_mut().find(|n| n.id == id) {
             n.failed = true;
         }
+    }
+
+    /// A silent robot stands on `v` (the sonar finds it, nobody hears it):
+    /// it blocks `v` like a failed robot until the sonar finds `v` free.
+    pub fn mark_body(&mut self, v: VertexId) {
+        if (v as usize) < self.grid.len() && !self.bodies.contains(&v) {
+            self.bodies.push(v);
+        }
+    }
+
+    /// The sonar finds `v` free.
+    pub fn clear_body(&mut self, v: VertexId) {
+        self.bodies.retain(|&b| b != v);
+    }
+
+    /// Vertices blocked for good as far as this robot knows: failed
+    /// robots' and silent bodies'.
+    fn blocked(&self) -> impl Iterator<Item = VertexId> + '_ {
+        self.map.failed_now().map(|(_, at)| at).chain(self.bodies.iter().copied())
     }
 
     /// Robot `id` was heard alive in `round`: a failure declared of it no
@@ -359,7 +392,7 @@ impl<'g> Robot<'g> {
                 continue;
             }
             let there = grid.position(n);
-            for (_, at) in self.map.failed_now() {
+            for at in self.blocked() {
                 let p = grid.position(at);
                 if at == n || swept_min_distance(here, there, p, p) < two_safe {
                     continue 'slot;
@@ -422,7 +455,10 @@ impl<'g> Robot<'g> {
             return None;
         }
         let repulsive = matches!(self.cfg.policy, Policy::Repulsive | Policy::Escape);
-        let live = self.nbrs.iter().filter(|n| !n.failed && n.map_in).count();
+        // Searching neighbours only: a robot that stopped is an obstacle, and
+        // being pushed away from it would keep this one from passing it.
+        let searching = |n: &&Neighbour| !n.failed && !n.halted && n.map_in;
+        let live = self.nbrs.iter().filter(searching).count();
         // Rule (1) without communication neighbours.
         if !repulsive || live == 0 {
             return Some(self.uniform(set));
@@ -430,7 +466,7 @@ impl<'g> Robot<'g> {
         // Rule (2): farthest from the mean of the earlier choosers' next
         // positions and the later choosers' current positions.
         let (mut si, mut sj) = (0i64, 0i64);
-        for nb in self.nbrs.iter().filter(|n| !n.failed && n.map_in) {
+        for nb in self.nbrs.iter().filter(searching) {
             let v = self.moving(nb).unwrap_or(nb.at);
             let c = self.grid.coord(v);
             si += c.i as i64;
@@ -484,7 +520,7 @@ impl<'g> Robot<'g> {
         bfs.queue.clear();
         bfs.stamp[self.pos as usize] = g;
         bfs.queue.push(self.pos);
-        for (_, at) in self.map.failed_now() {
+        for at in self.map.failed_now().map(|(_, at)| at).chain(self.bodies.iter().copied()) {
             bfs.stamp[at as usize] = g;
         }
         let mut head = 0;

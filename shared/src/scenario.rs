@@ -131,7 +131,7 @@ impl ScenarioError {
 }
 
 /// Names of the built-in scenarios, the default first.
-pub const BUILTIN: &[&str] = &["paper", "open", "cave", "large"];
+pub const BUILTIN: &[&str] = &["paper", "open", "cave", "large", "small"];
 
 fn builtin_text(name: &str) -> Option<&'static str> {
     Some(match name {
@@ -139,6 +139,7 @@ fn builtin_text(name: &str) -> Option<&'static str> {
         "open" => include_str!("../scenarios/open.toml"),
         "cave" => include_str!("../scenarios/cave.toml"),
         "large" => include_str!("../scenarios/large.toml"),
+        "small" => include_str!("../scenarios/small.toml"),
         _ => return None,
     })
 }

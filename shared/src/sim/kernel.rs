@@ -79,8 +79,9 @@ struct Bot<P> {
     pending: Vec<Delivery<P>>,
     motor: Option<VertexId>,
     tx_seq: u64,
-    /// Last round this robot was running and searching at a slot's end.
-    active_until: Option<u32>,
+    /// Rounds at whose end this robot was not running and searching, as
+    /// inclusive ranges.
+    idle: Vec<(u32, u32)>,
 }
 
 /// The world of one run.
@@ -110,6 +111,8 @@ pub struct Kernel<'w, P> {
     trajectories: Vec<Vec<Pose>>,
     /// `(failure record, robot, round)`: robots that timed out waiting on a failed robot.
     waiters: Vec<(usize, RobotId, u32)>,
+    /// `GRIDSWARM_TRACE` set: every wake-up, motor command, fault and slot on stderr.
+    trace: bool,
 }
 
 impl<'w, P: Clone> Kernel<'w, P> {
@@ -136,7 +139,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 pending: Vec::new(),
                 motor: None,
                 tx_seq: 0,
-                active_until: None,
+                idle: Vec::new(),
             })
             .collect();
         let mut k = Kernel {
@@ -164,6 +167,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             round_end_times: Vec::new(),
             trajectories: if cfg.record_trajectories { vec![Vec::new(); n] } else { Vec::new() },
             waiters: Vec::new(),
+            trace: std::env::var_os("GRIDSWARM_TRACE").is_some(),
         };
         k.record_poses();
         k.push(0, Ev::SlotStart);
@@ -272,6 +276,9 @@ impl<'w, P: Clone> Kernel<'w, P> {
     }
 
     fn apply_fault(&mut self, f: &Fault) {
+        if self.trace {
+            eprintln!("{:>10} r{} fault {f:?}", self.now, self.round);
+        }
         let r = f.robot;
         if r >= self.bots.len() {
             return;
@@ -291,9 +298,12 @@ impl<'w, P: Clone> Kernel<'w, P> {
             }
             FaultKind::Thaw if body == Body::Frozen => {
                 self.bots[r].body = Body::Running;
-                // Its sensors are read afresh: it must know the slot it is in.
-                self.bots[r].tick_due = true;
-                self.mark(r);
+                // Its sensors are read afresh: it must know the slot it is
+                // in. Between slots, the next slot's start wakes it.
+                if self.slot_open {
+                    self.bots[r].tick_due = true;
+                    self.mark(r);
+                }
                 if let Some(rec) = self.stats.failures.iter_mut().rev().find(|x| x.robot as usize == r && x.kind == "freeze") {
                     rec.thawed_s.get_or_insert(seconds(now));
                 }
@@ -368,6 +378,11 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 continue;
             }
             let b = &mut self.bots[r];
+            if b.tick_due && !self.slot_open {
+                // It owes a look at a slot that has not begun: the slot's
+                // start wakes it, with everything that reached it meanwhile.
+                continue;
+            }
             if b.slow > 0 && !b.react_now {
                 if !b.react_pending {
                     b.react_pending = true;
@@ -403,6 +418,12 @@ impl<'w, P: Clone> Kernel<'w, P> {
             return;
         };
         let now = self.now;
+        if self.trace {
+            eprintln!(
+                "{:>10} r{} robot {r}: send {} motor {:?} alarm {:?} listen {} notes {:?}",
+                now, self.round, out.send.len(), out.motor, out.alarm, out.listen, out.notes
+            );
+        }
         for tx in out.send {
             self.transmit(r, tx.payload, tx.ready.max(now), tx.copies);
         }
@@ -522,8 +543,9 @@ impl<'w, P: Clone> Kernel<'w, P> {
         self.slot_open = false;
         if forced {
             self.stats.forced_slots += 1;
-            self.last_motor = self.last_motor.max(self.now);
         }
+        // The slot lasts until it closes, whoever gave the last command.
+        self.last_motor = self.last_motor.max(self.now);
         let before: Vec<VertexId> = self.referee.positions().to_vec();
         let next: Vec<VertexId> = self.bots.iter().zip(&before).map(|(b, &p)| b.motor.unwrap_or(p)).collect();
         let report = self.referee.execute(&next);
@@ -541,12 +563,27 @@ impl<'w, P: Clone> Kernel<'w, P> {
         }
         dur += report.collisions as Time * micros(p.move_time());
         let end = self.slot_start + dur;
+        if self.trace {
+            eprintln!(
+                "{:>10} r{} close{}: motors {:?} collisions {} -> next slot at {end}",
+                self.now,
+                self.round,
+                if forced { " FORCED" } else { "" },
+                self.bots.iter().map(|b| (b.body, b.halted, b.motor)).collect::<Vec<_>>(),
+                report.collisions
+            );
+        }
         self.round_end_times.push(seconds(end));
         let mut searching = 0;
+        let round = self.round;
         for b in self.bots.iter_mut() {
             if b.body == Body::Running && !b.halted {
                 searching += 1;
-                b.active_until = Some(self.round);
+            } else {
+                match b.idle.last_mut() {
+                    Some(last) if last.1 + 1 == round => last.1 = round,
+                    _ => b.idle.push((round, round)),
+                }
             }
         }
         self.robot_rounds += searching;
@@ -601,7 +638,9 @@ impl<'w, P: Clone> Kernel<'w, P> {
         let grace = world.params.suspect_rounds + 1;
         for &(i, w, round) in &self.waiters {
             let rec = &self.stats.failures[i];
-            let kept_on = self.bots[w as usize].active_until.is_some_and(|a| a >= round + grace);
+            // Searching at the end of every round up to `round + grace`.
+            let (from, to) = (round + 1, round + grace);
+            let kept_on = self.round > to && !self.bots[w as usize].idle.iter().any(|&(a, b)| a <= to && b >= from);
             if kept_on && !rec.declared_by.contains(&w) && rec.thawed_s.is_none() && !rec.unaware.contains(&w) {
                 self.stats.failures[i].unaware.push(w);
             }
