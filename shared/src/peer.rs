@@ -49,6 +49,8 @@ use crate::sim::{micros, Motor, Note, Output, Tick, Time, Transmit};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Timing {
     pub exchange: Time,
+    /// One frame's latency, and the spacing of its copies.
+    pub hop: Time,
     pub choice: Time,
     pub wait: Time,
     /// Transmissions of every frame: 1 + retries.
@@ -60,6 +62,7 @@ impl Timing {
     pub fn from_params(p: &Params) -> Self {
         Timing {
             exchange: micros(p.t_exchange),
+            hop: micros(p.t_hop),
             choice: micros(p.t_choice),
             wait: micros(p.t_wait),
             copies: (1 + p.retries).min(u8::MAX as u32) as u8,
@@ -223,7 +226,11 @@ impl<'g> Peer<'g> {
         }
         let (alarm, listen) = match self.phase {
             Phase::Exchange => (Some(self.window_end), false),
-            Phase::Choosing => (Some(if self.has_chosen() { self.ack_deadline } else { self.deadline }), true),
+            Phase::Choosing if self.has_chosen() => {
+                let l = self.listened();
+                (Some(if l > now { self.ack_deadline.min(l) } else { self.ack_deadline }), true)
+            }
+            Phase::Choosing => (Some(self.deadline), true),
             _ => (None, false),
         };
         out.alarm = alarm;
@@ -232,6 +239,11 @@ impl<'g> Peer<'g> {
 
     fn send(&self, out: &mut Output<Frame>, frame: Frame, ready: Time) {
         out.send.push(Transmit { payload: frame, ready, copies: self.cfg.timing.copies });
+    }
+
+    /// Until when it listens after its choice before it may commit.
+    fn listened(&self) -> Time {
+        self.choice_ready + self.cfg.timing.hop * self.cfg.timing.copies as Time
     }
 
     fn has_chosen(&self) -> bool {
@@ -562,7 +574,12 @@ impl<'g> Peer<'g> {
             self.commit(now, false, out);
             return;
         }
+        // Choices sent at the same moment as this one by robots it did not
+        // hear (their maps lost) reach it within the copies' hops: it listens
+        // that long before it commits, so two robots that missed each
+        // other's maps still find out they chose in conflict.
         match self.acks(c) {
+            Acks::Complete if now < self.listened() => {}
             Acks::Complete => self.commit(now, true, out),
             Acks::Conflict => {
                 out.notes.push(Note::Unsure);

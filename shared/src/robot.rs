@@ -82,8 +82,10 @@ struct Neighbour {
     /// Its map of this round arrived.
     map_in: bool,
     choice: Option<VertexId>,
-    /// Failed for good, or suspected this round: not waited for, standing still.
-    failed: bool,
+    /// It did not choose in time this round: not waited for any more, and
+    /// treated as standing still. (A robot heard this round is alive,
+    /// whatever failure others declared of it.)
+    suspected: bool,
     /// It stopped searching: it stands still and chooses nothing.
     halted: bool,
 }
@@ -209,9 +211,12 @@ impl<'g> Robot<'g> {
         let k = match self.nbrs.iter().position(|n| n.id == from) {
             Some(k) => k,
             None => {
-                let failed = self.map.is_failed(from);
+                // Heard, so alive, whatever others declared.
+                if self.map.is_failed(from) {
+                    self.map.revive(from, self.round);
+                }
                 let key = self.grid.priority_key(at);
-                let n = Neighbour { id: from, at, key, map_in: false, choice: None, failed, halted: false };
+                let n = Neighbour { id: from, at, key, map_in: false, choice: None, suspected: false, halted: false };
                 // Sorted by id so every later pass visits neighbours in one fixed order.
                 let k = self.nbrs.partition_point(|m| m.id < from);
                 self.nbrs.insert(k, n);
@@ -246,11 +251,13 @@ impl<'g> Robot<'g> {
         true
     }
 
-    /// Marks every neighbour the map now holds failed.
+    /// A merged map may declare failed a robot heard this round: what this
+    /// robot heard itself wins.
     fn refresh_failed(&mut self) {
-        for n in self.nbrs.iter_mut() {
-            if self.map.is_failed(n.id) {
-                n.failed = true;
+        for k in 0..self.nbrs.len() {
+            let id = self.nbrs[k].id;
+            if self.map.is_failed(id) {
+                self.map.revive(id, self.round);
             }
         }
     }
@@ -281,7 +288,7 @@ impl<'g> Robot<'g> {
         }
         self.map.add_failed(id, at, round);
         if let Some(n) = self.nbrs.iter_mut().find(|n| n.id == id) {
-            n.failed = true;
+            n.suspected = true;
         }
     }
 
@@ -308,16 +315,13 @@ impl<'g> Robot<'g> {
     /// longer counts, and it is a neighbour like any other.
     pub fn revive(&mut self, id: RobotId, round: u32) {
         self.map.revive(id, round);
-        if let Some(n) = self.nbrs.iter_mut().find(|n| n.id == id) {
-            n.failed = false;
-        }
     }
 
     /// Robot `id` did not choose in time this round: it is no longer waited
     /// for, and treated as standing still where it was heard.
     pub fn suspect(&mut self, id: RobotId) {
         if let Some(n) = self.nbrs.iter_mut().find(|n| n.id == id) {
-            n.failed = true;
+            n.suspected = true;
         }
     }
 
@@ -348,11 +352,13 @@ impl<'g> Robot<'g> {
     /// policies only): heard, not failed or suspected, not halted, and
     /// without an announced choice.
     pub fn waiting_for(&self) -> impl Iterator<Item = RobotId> + '_ {
-        let me = self.key();
+        // Robots stacked on one vertex (after a collision under loss) tie:
+        // the higher id goes first.
+        let me = (self.key(), self.cfg.id);
         let seq = self.sequential();
         self.nbrs
             .iter()
-            .filter(move |n| seq && !n.failed && !n.halted && n.key > me && n.choice.is_none())
+            .filter(move |n| seq && !n.suspected && !n.halted && (n.key, n.id) > me && n.choice.is_none())
             .map(|n| n.id)
     }
 
@@ -364,7 +370,7 @@ impl<'g> Robot<'g> {
     /// Whether `nb`'s announced move is to be avoided: its choice is known
     /// (in a failure-free round, only higher-priority neighbours' are).
     fn moving(&self, nb: &Neighbour) -> Option<VertexId> {
-        if !self.sequential() || nb.failed || nb.halted {
+        if !self.sequential() || nb.suspected || nb.halted {
             return None;
         }
         nb.choice
@@ -406,7 +412,9 @@ impl<'g> Robot<'g> {
                         continue 'slot;
                     }
                     vacated |= nb.at == n && c != n;
-                } else if nb.at == n || swept_min_distance(here, there, from, from) < two_safe {
+                } else if nb.at == n || (nb.at != self.pos && swept_min_distance(here, there, from, from) < two_safe) {
+                    // (A robot on this very vertex, after a collision under
+                    // loss, is left behind: moving off is what parts them.)
                     continue 'slot;
                 }
             }
@@ -457,7 +465,7 @@ impl<'g> Robot<'g> {
         let repulsive = matches!(self.cfg.policy, Policy::Repulsive | Policy::Escape);
         // Searching neighbours only: a robot that stopped is an obstacle, and
         // being pushed away from it would keep this one from passing it.
-        let searching = |n: &&Neighbour| !n.failed && !n.halted && n.map_in;
+        let searching = |n: &&Neighbour| !n.suspected && !n.halted && n.map_in;
         let live = self.nbrs.iter().filter(searching).count();
         // Rule (1) without communication neighbours.
         if !repulsive || live == 0 {

@@ -563,6 +563,16 @@ impl<'w, P: Clone> Kernel<'w, P> {
         }
         dur += report.collisions as Time * micros(p.move_time());
         let end = self.slot_start + dur;
+        if self.trace && report.collisions > 0 {
+            let g = &self.world.grid;
+            let moves: Vec<String> = before
+                .iter()
+                .zip(&next)
+                .enumerate()
+                .map(|(k, (&a, &b))| format!("{k}:{:?}->{:?}", (g.coord(a).i, g.coord(a).j), (g.coord(b).i, g.coord(b).j)))
+                .collect();
+            eprintln!("COLLISION round {}: {}", self.round, moves.join(" "));
+        }
         if self.trace {
             eprintln!(
                 "{:>10} r{} close{}: motors {:?} collisions {} -> next slot at {end}",
