@@ -21,5 +21,3 @@ fn main() {
     println!("rounds {} ended {} collisions {} {:?}", r.rounds, r.protocol.ended_by, r.collisions, vopr::check(&r, 1));
     println!("failures {:?}", r.protocol.failures);
 }
-#[allow(dead_code)]
-fn unused() {}
