@@ -31,6 +31,8 @@ enum Body {
 enum Ev<P> {
     SlotStart,
     Deliver { to: u32, d: Delivery<P> },
+    /// A frame reaching several robots at once (a perfect radio).
+    Broadcast { to: Vec<u32>, d: Delivery<P> },
     Alarm { robot: u32, gen: u64 },
     Fault(usize),
     /// A slow robot's delayed wake-up.
@@ -103,7 +105,10 @@ pub struct Kernel<'w, P> {
     last_motor: Time,
     ended: Option<&'static str>,
     exchange: Time,
+    hop: Time,
     slot_limit: Time,
+    /// Something that can close the slot happened since the last check.
+    may_close: bool,
     stats: ProtocolStats,
     collisions: u32,
     robot_rounds: u64,
@@ -160,7 +165,9 @@ impl<'w, P: Clone> Kernel<'w, P> {
             last_motor: 0,
             ended: None,
             exchange,
+            hop: micros(p.t_hop),
             slot_limit,
+            may_close: false,
             stats: ProtocolStats::default(),
             collisions: 0,
             robot_rounds: 0,
@@ -232,14 +239,10 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 robots.slot_started(self.round, self.now);
                 self.begin_slot();
             }
-            Ev::Deliver { to, d } => {
-                let b = &mut self.bots[to as usize];
-                if b.body == Body::Dead {
-                    return;
-                }
-                b.pending.push(d);
-                if b.body == Body::Running && b.listen {
-                    self.mark(to as usize);
+            Ev::Deliver { to, d } => self.deliver(to, d),
+            Ev::Broadcast { to, d } => {
+                for t in to {
+                    self.deliver(t, d.clone());
                 }
             }
             Ev::Alarm { robot, gen } => {
@@ -265,6 +268,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             Ev::Close { round } => {
                 if round == self.round {
                     self.close_scheduled = false;
+                    self.may_close = true;
                 }
             }
             Ev::Limit { round } => {
@@ -275,7 +279,19 @@ impl<'w, P: Clone> Kernel<'w, P> {
         }
     }
 
+    fn deliver(&mut self, to: u32, d: Delivery<P>) {
+        let b = &mut self.bots[to as usize];
+        if b.body == Body::Dead {
+            return;
+        }
+        b.pending.push(d);
+        if b.body == Body::Running && b.listen {
+            self.mark(to as usize);
+        }
+    }
+
     fn apply_fault(&mut self, f: &Fault) {
+        self.may_close = true;
         if self.trace {
             eprintln!("{:>10} r{} fault {f:?}", self.now, self.round);
         }
@@ -335,6 +351,8 @@ impl<'w, P: Clone> Kernel<'w, P> {
     fn begin_slot(&mut self) {
         self.slot_start = self.now;
         self.slot_open = true;
+        // A slot nobody owes a command in closes after the exchange.
+        self.may_close = true;
         self.close_scheduled = false;
         self.last_motor = self.now;
         let grid = &self.world.grid;
@@ -409,6 +427,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
 
     fn apply(&mut self, r: usize, out: Option<Output<P>>) {
         let Some(out) = out else {
+            self.may_close = true;
             // Its process is gone: physics, not a scheduled fault.
             if self.bots[r].body != Body::Dead {
                 self.bots[r].body = Body::Dead;
@@ -428,6 +447,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             self.transmit(r, tx.payload, tx.ready.max(now), tx.copies);
         }
         if let Some((m, t)) = out.motor {
+            self.may_close = true;
             let b = &mut self.bots[r];
             if self.slot_open && b.motor.is_none() && !b.halted {
                 match m {
@@ -458,6 +478,16 @@ impl<'w, P: Clone> Kernel<'w, P> {
         let seq = self.bots[r].tx_seq;
         self.bots[r].tx_seq += 1;
         let from = r as RobotId;
+        if self.medium.radio().is_perfect() {
+            // Every receiver hears it one hop later: one event for all.
+            let to = self.medium.links(r).to_vec();
+            if !to.is_empty() {
+                let at = ready + self.hop;
+                self.stats.deliveries += to.len() as u64;
+                self.push(at, Ev::Broadcast { to, d: Delivery { from, at, payload } });
+            }
+            return;
+        }
         for k in 0..self.medium.links(r).len() {
             let to = self.medium.links(r)[k];
             let fate = self.medium.fate(r, seq, to as usize, ready, copies);
@@ -519,6 +549,9 @@ impl<'w, P: Clone> Kernel<'w, P> {
     }
 
     fn check_close(&mut self) {
+        if !std::mem::take(&mut self.may_close) {
+            return;
+        }
         if !self.slot_open || self.close_scheduled || self.bots.iter().any(Self::owes_motor) {
             return;
         }
