@@ -53,8 +53,8 @@ struct Local<'g> {
 impl Robots for Local<'_> {
     type Payload = Rc<Frame>;
 
-    fn wake(&mut self, calls: Vec<WakeCall<Rc<Frame>>>, outputs: &mut Vec<Option<Output<Rc<Frame>>>>) {
-        for call in calls {
+    fn wake(&mut self, calls: &mut [WakeCall<Rc<Frame>>], outputs: &mut Vec<Option<Output<Rc<Frame>>>>) {
+        for call in calls.iter() {
             let frames = call.frames.iter().map(|d| (d.from, &*d.payload));
             self.peers[call.robot].wake(call.now, call.tick.as_ref(), frames, &mut self.out);
             let o = &mut self.out;

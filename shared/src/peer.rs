@@ -314,7 +314,9 @@ impl<'g> Peer<'g> {
     /// or not they moved as they announced. Robots still missing from
     /// earlier slots, not yet declared, stay expected.
     fn expect(&mut self, pos: VertexId, consecutive: bool) {
-        if !consecutive {
+        // RU robots wait on nobody and announce no choice: there is no
+        // failure to detect, and nowhere to expect anyone.
+        if !consecutive || self.cfg.robot.policy == Policy::Ru {
             self.expected.clear();
             return;
         }

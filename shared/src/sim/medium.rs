@@ -79,6 +79,19 @@ impl Medium {
     /// Recomputes the links from the bodies' positions (once a slot: bodies
     /// move only between slots). Buckets of side `r_c` keep it near linear.
     pub fn relink(&mut self, positions: &[Point]) {
+        if positions.len() <= 64 {
+            // Few robots: every pair, no sorting.
+            for (k, l) in self.links.iter_mut().enumerate() {
+                l.clear();
+                let p = positions[k];
+                for (j, q) in positions.iter().enumerate() {
+                    if j != k && (q - p).norm_squared() <= self.r_c2 {
+                        l.push(j as u32);
+                    }
+                }
+            }
+            return;
+        }
         self.buckets.clear();
         for (k, p) in positions.iter().enumerate() {
             let c = ((p.x / self.cell).floor() as i64, (p.y / self.cell).floor() as i64);

@@ -161,9 +161,10 @@ pub trait Robots {
     type Payload: Clone;
 
     /// Wakes every robot of `calls` (distinct, in ascending order) at once.
-    /// `outputs[k]` answers `calls[k]`; `None` when that robot turned out to
+    /// The calls stay the world's (it reuses their buffers); the robots may
+    /// take the frames out. `outputs[k]` answers `calls[k]`; `None` when that robot turned out to
     /// be dead (its process gone).
-    fn wake(&mut self, calls: Vec<WakeCall<Self::Payload>>, outputs: &mut Vec<Option<Output<Self::Payload>>>);
+    fn wake(&mut self, calls: &mut [WakeCall<Self::Payload>], outputs: &mut Vec<Option<Output<Self::Payload>>>);
 
     /// Slot `round` starts at simulated time `now` (for wall-clock measures).
     fn slot_started(&mut self, _round: u32, _now: Time) {}
