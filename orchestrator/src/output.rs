@@ -157,13 +157,17 @@ mod tests {
     }
 }
 
-/// The two lines that open a run's report on the terminal, for either
-/// engine: what was run, then how it ended. `engine` follows the first line
-/// (e.g. ": one process per robot"); `extra` goes before the coverage.
+/// The lines that open a run's report on the terminal, for either engine:
+/// what was run, then how it ended (the engine's own `ended_by`, never a
+/// guess), then for grid policies the protocol's counts and one line per
+/// injected failure with its detection delay. `engine` follows the first
+/// line (e.g. ": one process per robot"); `extra` goes before the coverage.
 pub fn headline(scenario: &Scenario, result: &RunResult, engine: &str, extra: &str) -> String {
-    format!(
+    let ended = &result.protocol.ended_by;
+    let how = if result.complete { "complete" } else { "INCOMPLETE" };
+    let mut s = format!(
         "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}{engine}\n\
-         {} after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; {extra}coverage {}\n",
+         {how} ({}: {}) after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; {extra}coverage {}\n",
         scenario.name,
         scenario.grid.name(),
         result.algorithm.name(),
@@ -171,12 +175,18 @@ pub fn headline(scenario: &Scenario, result: &RunResult, engine: &str, extra: &s
         result.robots,
         result.seed,
         result.situation,
-        if result.complete { "complete" } else { "INCOMPLETE (round limit)" },
+        if ended.is_empty() { "-" } else { ended.as_str() },
+        crate::figures::ended_by_phrase(ended),
         result.rounds,
         result.search_time_s,
         result.targets_found,
         result.targets_total,
         result.collisions,
         result.coverage.map(|c| format!("{c:.4}")).unwrap_or_else(|| "not measured".into())
-    )
+    );
+    if result.algorithm.on_grid() {
+        s += &crate::figures::protocol_line(result);
+        s += &crate::figures::failure_lines(result);
+    }
+    s
 }

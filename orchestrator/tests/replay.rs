@@ -59,14 +59,13 @@ fn run_dir(
     let starts = scenario.start_vertices(&world, robots).unwrap();
     let mut cfg = RunConfig::new(policy, seed, situation);
     cfg.max_rounds = 5000;
-    let (result, times) = Runner::new(&world, scenario.lfp).run_with_round_times(&starts, &cfg);
+    let result = Runner::new(&world, scenario.lfp).run(&starts, &cfg);
     let record = RunRecord {
         scenario: &scenario,
         world: &world,
         starts: &starts,
         lfp: &scenario.lfp,
         result: &result,
-        round_end_times_s: Some(&times),
         extra: json!({ "max_rounds": 5000 }),
     };
     let written = rundir::write_run_dir(dir, &record).unwrap();
