@@ -379,14 +379,14 @@ impl Page<'_> {
 
     fn text(&self) -> String {
         format!(
-            "failures: scenario {}, {} robots, algorithm {}, {} runs per count, base seed {}, engine {:?}\n{}\n\
+            "failures: scenario {}, {} robots, algorithm {}, {} runs per count, base seed {}, engine {}\n{}\n\
              {} runs in {:.1} s; wrote failures.csv, failures-runs.csv, failures.svg, report.html in {}\n",
             self.scenario.name,
             self.robots,
             self.opts.algorithm,
             self.runs_per,
             self.opts.seed,
-            self.opts.engine,
+            self.opts.engine.name(),
             text_table(&table(self.rows)),
             self.runs.len(),
             self.wall_time_s,
@@ -400,6 +400,7 @@ fn checks(rows: &[FailureRow]) -> Vec<Claim> {
     let verdict = |ok: bool| if ok { Verdict::Holds } else { Verdict::Fails };
     let collisions: u64 = rows.iter().map(|r| r.stats.collisions).sum();
     let (inj, det): (usize, usize) = rows.iter().fold((0, 0), |a, r| (a.0 + r.stats.injected, a.1 + r.stats.detected));
+    let unaware: usize = rows.iter().map(|r| r.stats.unaware).sum();
     let false_susp: f64 = rows.iter().map(|r| r.stats.mean_false_suspicions * r.stats.runs as f64).sum();
     vec![
         Claim {
@@ -414,10 +415,12 @@ fn checks(rows: &[FailureRow]) -> Vec<Claim> {
         },
         Claim {
             id: "2".into(),
-            statement: "Every crashed robot is declared by a survivor.".into(),
-            criterion: "declared crashes = crashes that happened before the run ended".into(),
-            verdict: if inj == 0 { Verdict::NotEvaluated } else { verdict(det == inj) },
-            evidence: vec![format!("{det} of {inj} crashes declared")],
+            statement: "A crashed robot that a survivor waits on is declared by it.".into(),
+            criterion: "no survivor waited on a crashed robot, kept searching suspect_rounds + 1 more rounds, and \
+                        never declared it (a crash far from every survivor blocks nobody and may go undeclared)"
+                .into(),
+            verdict: if inj == 0 { Verdict::NotEvaluated } else { verdict(unaware == 0) },
+            evidence: vec![format!("{det} of {inj} crashes declared; {unaware} unaware waiters")],
         },
         Claim {
             id: "3".into(),

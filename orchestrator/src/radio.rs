@@ -374,13 +374,13 @@ impl Page<'_> {
 
     fn text(&self) -> String {
         format!(
-            "radio: scenario {}, algorithm {}, {} runs per point, base seed {}, engine {:?}\n{}\n\
+            "radio: scenario {}, algorithm {}, {} runs per point, base seed {}, engine {}\n{}\n\
              {} runs in {:.1} s; wrote radio.csv, radio-runs.csv, radio.svg, report.html in {}\n",
             self.scenario.name,
             self.opts.algorithm,
             self.runs_per,
             self.opts.seed,
-            self.opts.engine,
+            self.opts.engine.name(),
             text_table(&table(self.rows)),
             self.runs.len(),
             self.wall_time_s,

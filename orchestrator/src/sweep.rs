@@ -31,6 +31,14 @@ pub enum Engine {
 }
 
 impl Engine {
+    /// The name `--engine` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Engine::InProcess => "in-process",
+            Engine::Distributed => "distributed",
+        }
+    }
+
     pub fn describe(self) -> &'static str {
         match self {
             Engine::InProcess => "in-process: every robot a function call, runs in parallel on every core",

@@ -32,6 +32,9 @@ pub struct ProtoRun {
     pub injected: usize,
     /// Of those, the ones some robot declared.
     pub detected: usize,
+    /// Robots that waited on a failed robot, kept searching long enough to
+    /// declare it, and never did (summed over the failures): should be 0.
+    pub unaware: usize,
     /// Detection delays of the detected ones: rounds, and simulated seconds.
     pub delay_rounds: Vec<f64>,
     pub delay_s: Vec<f64>,
@@ -72,6 +75,7 @@ impl ProtoRun {
             forced_slots: u("forced_slots"),
             injected: failures.len(),
             detected: detected.len(),
+            unaware: failures.iter().map(|f| f["unaware"].as_array().map_or(0, Vec::len)).sum(),
             delay_rounds: detected.iter().filter_map(|f| f["detection_delay_rounds"].as_f64()).collect(),
             delay_s: detected.iter().filter_map(|f| f["detection_delay_s"].as_f64()).collect(),
         }
@@ -105,6 +109,7 @@ pub struct ProtoStats {
     pub mean_forced_slots: f64,
     pub injected: usize,
     pub detected: usize,
+    pub unaware: usize,
     pub mean_delay_rounds: Option<f64>,
     pub mean_delay_s: Option<f64>,
     /// Runs per `ended_by` label: stop, cut_off, no_robots, max_rounds.
@@ -148,6 +153,7 @@ impl ProtoStats {
             mean_forced_slots: per_run(&|r| r.forced_slots),
             injected: runs.iter().map(|r| r.injected).sum(),
             detected: runs.iter().map(|r| r.detected).sum(),
+            unaware: runs.iter().map(|r| r.unaware).sum(),
             mean_delay_rounds: mean(&runs.iter().flat_map(|r| r.delay_rounds.iter().copied()).collect::<Vec<_>>()),
             mean_delay_s: mean(&runs.iter().flat_map(|r| r.delay_s.iter().copied()).collect::<Vec<_>>()),
             ended_by,
@@ -175,14 +181,14 @@ impl ProtoStats {
 pub const CSV_COLUMNS: &str = "runs,completed_runs,completion_rate,mean_search_time_s,std_search_time_s,\
     ci95_search_time_s,mean_rounds,collisions,moves,collisions_per_million_moves,mean_transmissions,\
     mean_retransmissions,mean_lost,mean_timeouts,mean_unsure,mean_false_suspicions,mean_rejoins,\
-    mean_forced_slots,failures_injected,failures_detected,mean_detection_delay_rounds,mean_detection_delay_s,\
-    ended_stop,ended_cut_off,ended_no_robots,ended_max_rounds";
+    mean_forced_slots,failures_injected,failures_detected,unaware,mean_detection_delay_rounds,\
+    mean_detection_delay_s,ended_stop,ended_cut_off,ended_no_robots,ended_max_rounds";
 
 /// The statistics as CSV cells, in [`CSV_COLUMNS`]' order.
 pub fn csv_cells(s: &ProtoStats) -> String {
     let n = crate::output::csv_num;
     format!(
-        "{},{},{:.6},{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{},{},{},{},{}",
+        "{},{},{:.6},{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{},{},{},{},{},{}",
         s.runs,
         s.completed_runs,
         s.completion_rate,
@@ -203,6 +209,7 @@ pub fn csv_cells(s: &ProtoStats) -> String {
         s.mean_forced_slots,
         s.injected,
         s.detected,
+        s.unaware,
         n(s.mean_delay_rounds),
         n(s.mean_delay_s),
         s.ended_by[0],
@@ -215,12 +222,12 @@ pub fn csv_cells(s: &ProtoStats) -> String {
 /// The columns of every run in a runs CSV, after the experiment's own keys.
 pub const RUN_CSV_COLUMNS: &str = "seed,complete,ended_by,search_time_s,rounds,collisions,moves,transmissions,\
     retransmissions,lost,timeouts,unsure,declarations,false_suspicions,rejoins,forced_slots,failures_injected,\
-    failures_detected,mean_detection_delay_rounds,mean_detection_delay_s";
+    failures_detected,unaware,mean_detection_delay_rounds,mean_detection_delay_s";
 
 pub fn run_csv_cells(r: &ProtoRun) -> String {
     let n = crate::output::csv_num;
     format!(
-        "{},{},{},{:.6},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+        "{},{},{},{:.6},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
         r.seed,
         r.complete,
         r.ended_by,
@@ -239,6 +246,7 @@ pub fn run_csv_cells(r: &ProtoRun) -> String {
         r.forced_slots,
         r.injected,
         r.detected,
+        r.unaware,
         n(mean(&r.delay_rounds)),
         n(mean(&r.delay_s))
     )
