@@ -197,12 +197,15 @@ fn series(rows: &[RadioRow], y: impl Fn(&ProtoStats) -> (Option<f64>, Option<f64
 }
 
 fn figure(rows: &[RadioRow], losses: &[f64], title: &str) -> std::result::Result<String, String> {
-    let collisions = Panel::new(
-        "Collisions per 10^6 moves",
+    // Log scale: the rate spans decades; a point without collisions has no
+    // logarithm and is left out (the table has it).
+    let mut collisions = Panel::new(
+        "Collisions per 10^6 moves (log; 0 not drawn)",
         "loss probability P",
         "collisions per 10^6 moves",
-        series(rows, |s| (Some(s.collisions_per_million_moves), None)),
+        series(rows, |s| ((s.collisions_per_million_moves > 0.0).then_some(s.collisions_per_million_moves), None)),
     );
+    collisions.log_y = true;
     let mut done = Panel::new("Completion", "loss probability P", "fraction of runs", series(rows, |s| (Some(s.completion_rate), None)));
     done.y_range = Some((0.0, 1.05));
     let time = Panel::new(
@@ -360,8 +363,9 @@ impl Page<'_> {
                         svg,
                         caption: "Against the probability P that one transmission is lost on one link, one line per \
                                   robot count N and retransmission count R: collisions per 10^6 moves (all runs \
-                                  pooled), completion rate, mean search time of the completed runs (bars: 95% CI) \
-                                  and unsure stays per run. Measurements only."
+                                  pooled; log scale, points with no collision left out), completion rate, mean \
+                                  search time of the completed runs (bars: 95% CI) and unsure stays per run. \
+                                  Measurements only."
                             .into(),
                     }],
                 ),
