@@ -263,6 +263,20 @@ fn failures_and_refused_moves_are_read_from_the_summary() {
 }
 
 #[test]
+fn simulated_failures_are_marked_from_their_declaration() {
+    let d = scratch("simulated-failures");
+    let o = gridswarm(&["simulate", "--robots", "6", "--seed", "3", "--kill", "2@4+0.3", "--out", d.to_str().unwrap()]);
+    assert_ok(&o);
+    let s: Value = serde_json::from_str(&fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    let declared = s["failures"][0]["detected_round"].as_u64().expect("the crash is declared") as u32;
+    assert!(s.get("failures_detected").is_none());
+    let rec = Recorded::load(&d).unwrap();
+    assert_eq!(rec.failures.len(), 1);
+    assert_eq!((rec.failures[0].robot, rec.failures[0].round), (2, declared));
+    assert_eq!(rec.refused_total, Some(0));
+}
+
+#[test]
 fn experiment_writes_a_report_and_is_quiet_in_a_pipe() {
     let d = scratch("experiment");
     let o = gridswarm(&["experiment", "--runs", "3", "--robots", "1-2", "--out", d.to_str().unwrap()]);
