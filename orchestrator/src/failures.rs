@@ -317,6 +317,15 @@ impl Page<'_> {
             "seed": o.seed,
             "seed_derivation": "run r with k killed has seed derive(derive(seed, k), r) with gridswarm::rng::derive; \
                 its victims and crash times are drawn from that seed as by `--kill-random k`",
+            "reproduce": format!(
+                "gridswarm simulate --scenario {} --situation {} --algorithm {} --robots {} --seed SEED \
+                 --kill-random K --max-rounds {} (SEED and K from failures-runs.csv)",
+                o.scenario,
+                self.scenario.situation.number(),
+                o.algorithm,
+                self.robots,
+                o.max_rounds
+            ),
             "crash_times": format!("rounds 1 to {}, at an offset below {} s into the round", schedule::RANDOM_ROUNDS, schedule::RANDOM_OFFSET_S),
             "max_rounds": o.max_rounds,
             "engine": o.engine.describe(),

@@ -324,6 +324,14 @@ impl Page<'_> {
             "seed_derivation": "run r with N robots has seed derive(derive(seed, N), r) with gridswarm::rng::derive, \
                 the same for every loss and retries value (paired runs)",
             "radio": "loss P per transmission per link; no extra delay, jitter or duplication",
+            "reproduce": format!(
+                "gridswarm simulate --scenario {} --situation {} --algorithm {} --robots N --seed SEED --loss P \
+                 --retries R --max-rounds {} (from radio-runs.csv)",
+                o.scenario,
+                self.scenario.situation.number(),
+                o.algorithm,
+                o.max_rounds
+            ),
             "max_rounds": o.max_rounds,
             "engine": o.engine.describe(),
             "statistics": "search time (mean ± 1.96 std/sqrt(n)) over completed runs; counts are means per run over \

@@ -441,6 +441,15 @@ fn experiment_failures_runs_in_process_and_writes_its_files() {
     assert_eq!(cell(1, "mean_false_suspicions"), 0.0, "{csv}");
     let runs = fs::read_to_string(d.join("failures-runs.csv")).unwrap();
     assert_eq!(runs.lines().count(), 1 + 90);
+    // Any run is `simulate` with the same seed and --kill-random.
+    let head: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
+    let run: Vec<&str> = runs.lines().find(|l| l.starts_with("2,")).unwrap().split(',').collect();
+    let field = |name: &str| run[head.iter().position(|h| *h == name).unwrap()];
+    let v = simulate_json(&["--robots", "6", "--seed", field("seed"), "--kill-random", "2"]);
+    assert_eq!(v["rounds"].to_string(), field("rounds"));
+    assert_eq!(format!("{:.6}", num(&v, "search_time_s")), field("search_time_s"));
+    assert_eq!(v["failures"].as_array().unwrap().len().to_string(), field("failures_injected"));
+    assert_eq!(v["unsure"].to_string(), field("unsure"));
     roxmltree::Document::parse(&fs::read_to_string(d.join("failures.svg")).unwrap()).expect("failures.svg is XML");
     let html = fs::read_to_string(d.join("report.html")).unwrap();
     assert!(html.contains("Failures: paper scenario, 6 robots") && html.contains("false susp./run"), "report");
