@@ -119,7 +119,8 @@ impl FaultPlan {
         Ok(())
     }
 
-    /// Robots given a crash or freeze explicitly.
+    /// Robots any explicit fault names (a slow one too): `--kill-random`
+    /// draws among the others, in both engines.
     fn failing(&self) -> Vec<usize> {
         let mut v: Vec<usize> = self.faults.iter().map(|f| f.robot).collect();
         v.sort_unstable();
