@@ -173,6 +173,7 @@ enum ExperimentKind {
         seed: u64,
         #[command(flatten)]
         distributed: Distributed,
+        /// Which engine runs the runs.
         #[arg(long, value_enum, default_value_t = Engine::InProcess)]
         engine: Engine,
         /// Output directory (created if missing).
@@ -209,6 +210,7 @@ enum ExperimentKind {
         seed: u64,
         #[command(flatten)]
         distributed: Distributed,
+        /// Which engine runs the runs.
         #[arg(long, value_enum, default_value_t = Engine::InProcess)]
         engine: Engine,
         /// Output directory (created if missing).
