@@ -480,7 +480,16 @@ fn experiment_radio_writes_its_files_and_table() {
     assert!(cell(1, "mean_retransmissions") > 0.0, "{csv}");
     assert_eq!(cell(0, "mean_unsure"), 0.0, "a perfect radio leaves nobody unsure: {csv}");
     assert!(cell(2, "mean_unsure") > cell(3, "mean_unsure"), "a retry should cut the unsure stays: {csv}");
-    assert_eq!(fs::read_to_string(d.join("radio-runs.csv")).unwrap().lines().count(), 1 + 32);
+    let runs = fs::read_to_string(d.join("radio-runs.csv")).unwrap();
+    assert_eq!(runs.lines().count(), 1 + 32);
+    // Any run is `simulate` with the same seed, loss and retries.
+    let head: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
+    let run: Vec<&str> = runs.lines().find(|l| l.starts_with("0.2,4,1,")).unwrap().split(',').collect();
+    let field = |name: &str| run[head.iter().position(|h| *h == name).unwrap()];
+    let v = simulate_json(&["--robots", "4", "--seed", field("seed"), "--loss", "0.2", "--retries", "1"]);
+    for k in ["rounds", "lost", "retransmissions", "unsure", "collisions"] {
+        assert_eq!(v[k].to_string(), field(k), "{k}");
+    }
     roxmltree::Document::parse(&fs::read_to_string(d.join("radio.svg")).unwrap()).expect("radio.svg is XML");
     assert!(fs::read_to_string(d.join("report.html")).unwrap().contains("Radio loss: paper scenario"));
     // Reproducible.
