@@ -91,14 +91,13 @@ impl Worlds {
         let mut w = Worlds { worlds: BTreeMap::new(), starts: BTreeMap::new() };
         for j in jobs {
             let key = j.plan.retries;
-            if !w.worlds.contains_key(&key) {
+            let world = w.worlds.entry(key).or_insert_with(|| {
                 let mut s = scenario.clone();
                 j.plan.apply_params(&mut s.params);
-                w.worlds.insert(key, s.world());
-            }
-            if !w.starts.contains_key(&(key, j.robots)) {
-                let starts = contract::start_vertices(scenario, &w.worlds[&key], j.robots)?;
-                w.starts.insert((key, j.robots), starts);
+                s.world()
+            });
+            if let std::collections::btree_map::Entry::Vacant(e) = w.starts.entry((key, j.robots)) {
+                e.insert(contract::start_vertices(scenario, world, j.robots)?);
             }
         }
         Ok(w)
