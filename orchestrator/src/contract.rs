@@ -54,9 +54,4 @@ impl<'w> Runner<'w> {
         // The scenario's LFP constants reach the engine here and only here.
         gridswarm::engine::run_with_lfp(self.world, starts, cfg, &self.lfp)
     }
-
-    /// [`Runner::run`], also returning the simulated time at the end of every round.
-    pub fn run_with_round_times(&self, starts: &[VertexId], cfg: &RunConfig) -> (RunResult, Vec<f64>) {
-        gridswarm::engine::run_with_round_times(self.world, starts, cfg, &self.lfp)
-    }
 }

@@ -11,6 +11,11 @@ pub enum Error {
     /// A command-line value that parsed but does not fit the scenario.
     #[error("{0}")]
     Input(String),
+    /// A combination of command-line flags that cannot be run (exit 2, as
+    /// clap's own usage errors): a fault on a robot the run does not have,
+    /// two failures for one robot, faults for a policy without a radio.
+    #[error("{0}")]
+    Usage(String),
     #[error("cannot create output directory `{}`: {source}", path.display())]
     OutDir { path: PathBuf, source: std::io::Error },
     #[error("cannot write `{}`: {source}", path.display())]
@@ -28,6 +33,14 @@ pub enum Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
+    /// The process exit status for this error: 2 for usage errors, 1 otherwise.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::Usage(_) => 2,
+            _ => 1,
+        }
+    }
+
     pub fn write(path: impl Into<PathBuf>) -> impl FnOnce(std::io::Error) -> Error {
         let path = path.into();
         move |source| Error::Write { path, source }

@@ -1,12 +1,13 @@
-//! `gridswarm experiment failures`: distributed runs (`gridswarm run`, one
-//! process per robot) with 0, 1, 2, ... robots SIGKILLed at random rounds,
-//! and what the killing costs: search time, completion, collisions, refused
-//! moves, and how long the survivors take to notice.
+//! `gridswarm experiment failures`: runs with 0, 1, 2, ... robots crashed
+//! at random times inside rounds (`--kill-random`), and what the crashes
+//! cost: completion, search time, how long the survivors take to notice,
+//! false suspicions, rejoins, radio traffic, collisions, unsure stays.
 //!
-//! Runs are sequential (each already uses every core). Run `r` with `k`
-//! killed has seed `derive(derive(seed, k), r)`; its victims and their rounds
-//! are drawn from that seed by [`crate::run::schedule`], so the same seed
-//! gives the same runs.
+//! In-process by default (every core, thousands of runs in seconds); with
+//! `--engine distributed`, one `gridswarm run` after another. Run `r` with
+//! `k` killed has seed `derive(derive(seed, k), r)`; its victims and their
+//! times are drawn from that seed by [`gridswarm::sim::schedule::kill_random`],
+//! so both engines run the same schedule.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -16,20 +17,26 @@ use std::time::Instant;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
 use gridswarm::rng::derive;
-use serde_json::{json, Value};
+use gridswarm::sim::schedule;
+use serde_json::json;
 
 use crate::claims::Verdict;
 use crate::error::{Error, Result};
-use crate::experiment::progress_bar;
+use crate::faults::FaultPlan;
 use crate::panels::{self, Panel, Series};
 use crate::report::{self, Block, Claim, Report, Section, Table};
-use crate::run::{self, RunOptions};
-use crate::stats::{mean, sample_std};
+use crate::sweep::{self, Engine, Job, Setting};
+use crate::tally::{self, ProtoRun, ProtoStats};
 use crate::{check, contract, output};
+
+pub use crate::report::text_table;
 
 pub const DEFAULT_ROBOTS: u32 = 13;
 pub const DEFAULT_KILLED: &str = "0-3";
-pub const DEFAULT_RUNS: u32 = 10;
+/// Runs per number killed, in-process.
+pub const DEFAULT_RUNS: u32 = 500;
+/// Runs per number killed with `--engine distributed` (each takes seconds).
+pub const DEFAULT_RUNS_DISTRIBUTED: u32 = 10;
 pub const DEFAULT_OUT: &str = "failures-out";
 
 /// Numbers of robots to kill: `0-3`, `2` or `0,2,4`; sorted, distinct.
@@ -55,8 +62,8 @@ impl FromStr for Killed {
             if lo > hi {
                 return Err(format!("bad --killed range `{}`: {lo} is greater than {hi}", part.trim()));
             }
-            if hi > gridswarm::ipc::MAX_ROBOTS {
-                return Err(format!("bad --killed `{s}`: at most {} robots", gridswarm::ipc::MAX_ROBOTS));
+            if hi > crate::robots::MAX_ROBOTS {
+                return Err(format!("bad --killed `{s}`: at most {} robots", crate::robots::MAX_ROBOTS));
             }
             out.extend(lo..=hi);
         }
@@ -73,11 +80,12 @@ pub struct FailuresOptions {
     /// The scenario's own count when `None`.
     pub robots: Option<usize>,
     pub killed: Vec<usize>,
-    pub runs: u32,
+    /// Runs per number killed; the engine's default when `None`.
+    pub runs: Option<u32>,
     pub seed: u64,
     pub situation: Option<Situation>,
-    pub suspect_ms: u64,
     pub max_rounds: u32,
+    pub engine: Engine,
     pub out: PathBuf,
     pub progress: bool,
 }
@@ -87,159 +95,29 @@ pub fn run_seed(base: u64, killed: usize, run: u32) -> u64 {
     derive(derive(base, killed as u64), u64::from(run))
 }
 
-/// What the experiment keeps of one distributed run.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FailureRun {
-    pub killed: usize,
-    pub run: u32,
-    pub seed: u64,
-    pub complete: bool,
-    pub search_time_s: f64,
-    pub rounds: u64,
-    pub collisions: u64,
-    pub refused_moves: u64,
-    /// Kills actually applied (a search may end before a kill's round).
-    pub injected: usize,
-    /// Applied kills the survivors declared.
-    pub detected: usize,
-    pub delay_rounds: Vec<f64>,
-    pub delay_ms: Vec<f64>,
-    pub round_wall_p50_ms: Option<f64>,
-    pub run_wall_ms: Option<f64>,
-}
-
-impl FailureRun {
-    /// Reads a run's summary (the object `run --json` prints).
-    pub fn from_summary(killed: usize, run: u32, seed: u64, v: &Value) -> Self {
-        let u = |x: &Value| x.as_u64().unwrap_or(0);
-        let detected: Vec<&Value> = v["failures_detected"]
-            .as_array()
-            .map(|a| a.iter().filter(|d| !d["injected_round"].is_null()).collect())
-            .unwrap_or_default();
-        FailureRun {
-            killed,
-            run,
-            seed,
-            complete: v["complete"].as_bool().unwrap_or(false),
-            search_time_s: v["search_time_s"].as_f64().unwrap_or(f64::NAN),
-            rounds: u(&v["rounds"]),
-            collisions: u(&v["collisions"]),
-            refused_moves: u(&v["refused_moves"]),
-            injected: v["failures_injected"]
-                .as_array()
-                .map(|a| a.iter().filter(|i| i["applied"].as_bool() == Some(true)).count())
-                .unwrap_or(0),
-            detected: detected.len(),
-            delay_rounds: detected.iter().filter_map(|d| d["delay_rounds"].as_f64()).collect(),
-            delay_ms: detected.iter().filter_map(|d| d["delay_ms"].as_f64()).collect(),
-            round_wall_p50_ms: v["round_wall_ms"]["p50"].as_f64(),
-            run_wall_ms: v["run_wall_ms"].as_f64(),
-        }
-    }
-}
-
 /// One row of `failures.csv`: the runs with `killed` robots killed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FailureRow {
     pub killed: usize,
-    pub runs: usize,
-    pub completed_runs: usize,
-    pub completion_rate: f64,
-    /// Over completed runs.
-    pub mean_search_time_s: Option<f64>,
-    pub std_search_time_s: Option<f64>,
-    pub mean_rounds: Option<f64>,
-    /// Over all runs.
-    pub mean_collisions: f64,
-    pub mean_refused_moves: f64,
-    pub injected: usize,
-    pub detected: usize,
-    /// Over every detected kill of every run.
-    pub mean_delay_rounds: Option<f64>,
-    pub mean_delay_ms: Option<f64>,
-    pub mean_round_wall_p50_ms: Option<f64>,
+    pub stats: ProtoStats,
 }
 
-impl FailureRow {
-    pub fn of(killed: usize, runs: &[FailureRun]) -> Self {
-        let done: Vec<&FailureRun> = runs.iter().filter(|r| r.complete).collect();
-        let times: Vec<f64> = done.iter().map(|r| r.search_time_s).collect();
-        let all = |f: &dyn Fn(&FailureRun) -> f64| mean(&runs.iter().map(f).collect::<Vec<_>>()).unwrap_or(0.0);
-        FailureRow {
-            killed,
-            runs: runs.len(),
-            completed_runs: done.len(),
-            completion_rate: if runs.is_empty() { 0.0 } else { done.len() as f64 / runs.len() as f64 },
-            mean_search_time_s: mean(&times),
-            std_search_time_s: sample_std(&times),
-            mean_rounds: mean(&done.iter().map(|r| r.rounds as f64).collect::<Vec<_>>()),
-            mean_collisions: all(&|r| r.collisions as f64),
-            mean_refused_moves: all(&|r| r.refused_moves as f64),
-            injected: runs.iter().map(|r| r.injected).sum(),
-            detected: runs.iter().map(|r| r.detected).sum(),
-            mean_delay_rounds: mean(&runs.iter().flat_map(|r| r.delay_rounds.iter().copied()).collect::<Vec<_>>()),
-            mean_delay_ms: mean(&runs.iter().flat_map(|r| r.delay_ms.iter().copied()).collect::<Vec<_>>()),
-            mean_round_wall_p50_ms: mean(&runs.iter().filter_map(|r| r.round_wall_p50_ms).collect::<Vec<_>>()),
-        }
-    }
+pub fn csv_header() -> String {
+    format!("killed,{}", tally::CSV_COLUMNS)
 }
-
-pub const CSV_HEADER: &str = "killed,runs,completed_runs,completion_rate,mean_search_time_s,std_search_time_s,\
-                              mean_rounds,mean_collisions,mean_refused_moves,failures_injected,failures_detected,\
-                              mean_detection_delay_rounds,mean_detection_delay_ms,mean_round_wall_p50_ms";
 
 pub fn csv(rows: &[FailureRow]) -> String {
-    let n = output::csv_num;
-    let mut s = format!("{CSV_HEADER}\n");
+    let mut s = csv_header() + "\n";
     for r in rows {
-        let _ = writeln!(
-            s,
-            "{},{},{},{:.6},{},{},{},{:.6},{:.6},{},{},{},{},{}",
-            r.killed,
-            r.runs,
-            r.completed_runs,
-            r.completion_rate,
-            n(r.mean_search_time_s),
-            n(r.std_search_time_s),
-            n(r.mean_rounds),
-            r.mean_collisions,
-            r.mean_refused_moves,
-            r.injected,
-            r.detected,
-            n(r.mean_delay_rounds),
-            n(r.mean_delay_ms),
-            n(r.mean_round_wall_p50_ms)
-        );
+        let _ = writeln!(s, "{},{}", r.killed, tally::csv_cells(&r.stats));
     }
     s
 }
 
-pub const RUNS_CSV_HEADER: &str = "killed,run,seed,complete,search_time_s,rounds,collisions,refused_moves,\
-                                   failures_injected,failures_detected,mean_detection_delay_rounds,\
-                                   mean_detection_delay_ms,round_wall_p50_ms,run_wall_ms";
-
-fn runs_csv(runs: &[FailureRun]) -> String {
-    let n = output::csv_num;
-    let mut s = format!("{RUNS_CSV_HEADER}\n");
-    for r in runs {
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{:.6},{},{},{},{},{},{},{},{},{}",
-            r.killed,
-            r.run,
-            r.seed,
-            r.complete,
-            r.search_time_s,
-            r.rounds,
-            r.collisions,
-            r.refused_moves,
-            r.injected,
-            r.detected,
-            n(mean(&r.delay_rounds)),
-            n(mean(&r.delay_ms)),
-            n(r.round_wall_p50_ms),
-            n(r.run_wall_ms)
-        );
+fn runs_csv(runs: &[(usize, u32, ProtoRun)]) -> String {
+    let mut s = format!("killed,run,{}\n", tally::RUN_CSV_COLUMNS);
+    for (k, r, run) in runs {
+        let _ = writeln!(s, "{k},{r},{}", tally::run_csv_cells(run));
     }
     s
 }
@@ -249,60 +127,43 @@ fn fmt(x: Option<f64>, d: usize) -> String {
 }
 
 fn table(rows: &[FailureRow]) -> Table {
+    let header = [
+        "killed",
+        "completed",
+        "time (s) ± CI95",
+        "detected",
+        "delay (rounds)",
+        "delay (s)",
+        "false susp./run",
+        "rejoins/run",
+        "retrans./run",
+        "coll./10^6 moves",
+        "unsure/run",
+        "ended by",
+    ];
     Table {
-        header: [
-            "killed",
-            "runs",
-            "completed",
-            "mean time (s)",
-            "std (s)",
-            "mean rounds",
-            "mean collisions",
-            "mean refused moves",
-            "detected/injected",
-            "delay (rounds)",
-            "delay (ms)",
-            "round wall p50 (ms)",
-        ]
-        .map(String::from)
-        .to_vec(),
+        header: header.map(String::from).to_vec(),
         rows: rows
             .iter()
             .map(|r| {
+                let s = &r.stats;
                 vec![
                     r.killed.to_string(),
-                    r.runs.to_string(),
-                    format!("{}/{}", r.completed_runs, r.runs),
-                    fmt(r.mean_search_time_s, 1),
-                    fmt(r.std_search_time_s, 1),
-                    fmt(r.mean_rounds, 1),
-                    format!("{:.2}", r.mean_collisions),
-                    format!("{:.2}", r.mean_refused_moves),
-                    format!("{}/{}", r.detected, r.injected),
-                    fmt(r.mean_delay_rounds, 2),
-                    fmt(r.mean_delay_ms, 1),
-                    fmt(r.mean_round_wall_p50_ms, 3),
+                    format!("{}/{}", s.completed_runs, s.runs),
+                    s.time_text(),
+                    format!("{}/{}", s.detected, s.injected),
+                    fmt(s.mean_delay_rounds, 2),
+                    fmt(s.mean_delay_s, 2),
+                    format!("{:.3}", s.mean_false_suspicions),
+                    format!("{:.3}", s.mean_rejoins),
+                    format!("{:.1}", s.mean_retransmissions),
+                    format!("{:.1}", s.collisions_per_million_moves),
+                    format!("{:.2}", s.mean_unsure),
+                    s.endings(),
                 ]
             })
             .collect(),
     }
-}
-
-/// The table as aligned text for the terminal.
-pub fn text_table(t: &Table) -> String {
-    let cols = t.header.len();
-    let width: Vec<usize> =
-        (0..cols).map(|c| t.rows.iter().map(|r| r[c].len()).chain([t.header[c].len()]).max().unwrap_or(0)).collect();
-    let mut s = String::new();
-    for row in std::iter::once(&t.header).chain(&t.rows) {
-        let cells: Vec<String> = row
-            .iter()
-            .enumerate()
-            .map(|(c, x)| if c == 0 { format!("{x:<w$}", w = width[c]) } else { format!("{x:>w$}", w = width[c]) })
-            .collect();
-        let _ = writeln!(s, "{}", cells.join("  "));
-    }
-    s
 }
 
 fn figure(rows: &[FailureRow], title: &str) -> std::result::Result<String, String> {
@@ -311,46 +172,53 @@ fn figure(rows: &[FailureRow], title: &str) -> std::result::Result<String, Strin
     let time = Panel::new(
         "Search time (completed runs)",
         "robots killed",
-        "mean search time (s), ± std",
+        "mean search time (s), ± 95% CI",
         vec![Series::with_err(
             "mean search time",
-            rows.iter().map(|r| (x(r), r.mean_search_time_s, r.std_search_time_s)),
+            rows.iter().map(|r| (x(r), r.stats.mean_search_time_s, r.stats.ci95_search_time_s)),
         )],
     );
     let mut done = Panel::new(
-        "Completion and safety",
+        "Completion",
         "robots killed",
-        "per run",
-        vec![
-            Series::new("completion rate", rows.iter().map(|r| (x(r), Some(r.completion_rate)))),
-            Series::new("mean collisions", rows.iter().map(|r| (x(r), Some(r.mean_collisions)))),
-        ],
+        "fraction of runs",
+        vec![Series::new("completion rate", rows.iter().map(|r| (x(r), Some(r.stats.completion_rate))))],
     );
-    let top = rows.iter().map(|r| r.mean_collisions.max(r.completion_rate)).fold(1.0, f64::max);
-    done.y_range = Some((0.0, top * 1.35)); // room for the legend above the rate of 1
+    done.y_range = Some((0.0, 1.05));
     let delay = Panel::new(
         "Detection delay",
         "robots killed",
-        "mean delay after the kill",
+        "mean delay after the crash",
         vec![
-            Series::new("ms", rows.iter().map(|r| (x(r), r.mean_delay_ms))),
-            Series::new("rounds", rows.iter().map(|r| (x(r), r.mean_delay_rounds))),
+            Series::new("rounds", rows.iter().map(|r| (x(r), r.stats.mean_delay_rounds))),
+            Series::new("simulated s / 10", rows.iter().map(|r| (x(r), r.stats.mean_delay_s.map(|s| s / 10.0)))),
         ],
     );
-    panels::panels_svg(title, &[time, done, delay], &xs)
+    let protocol = Panel::new(
+        "Protocol, per run",
+        "robots killed",
+        "mean per run",
+        vec![
+            Series::new("false suspicions", rows.iter().map(|r| (x(r), Some(r.stats.mean_false_suspicions)))),
+            Series::new("rejoins", rows.iter().map(|r| (x(r), Some(r.stats.mean_rejoins)))),
+            Series::new("unsure stays", rows.iter().map(|r| (x(r), Some(r.stats.mean_unsure)))),
+            Series::new("collisions per 10^6 moves", rows.iter().map(|r| (x(r), Some(r.stats.collisions_per_million_moves)))),
+        ],
+    );
+    panels::panels_svg(title, &[time, done, delay, protocol], &xs)
 }
 
-/// Runs the experiment; returns the rows and the text for stdout.
-pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
-    if opts.runs == 0 {
+/// The options checked, the scenario loaded; the robot count.
+fn prepare(opts: &FailuresOptions) -> Result<(gridswarm::scenario::Scenario, usize)> {
+    if opts.runs == Some(0) {
         return Err(Error::Input("--runs must be at least 1".into()));
     }
     if opts.killed.is_empty() {
         return Err(Error::Input("--killed needs at least one count".into()));
     }
     if !opts.algorithm.on_grid() {
-        return Err(Error::Input(format!(
-            "`experiment failures` runs one process per robot on the grid; `{}` moves off the grid",
+        return Err(Error::Usage(format!(
+            "`experiment failures` needs the radio protocol of the grid policies; `{}` moves off the grid",
             opts.algorithm
         )));
     }
@@ -359,198 +227,225 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
         scenario.situation = s;
     }
     let robots = opts.robots.unwrap_or(scenario.robots);
-    if robots == 0 || robots > gridswarm::ipc::MAX_ROBOTS {
-        return Err(Error::Input(format!("robots must be in 1..={}, got {robots}", gridswarm::ipc::MAX_ROBOTS)));
+    if robots == 0 {
+        return Err(Error::Input("at least 1 robot is needed".into()));
     }
     if let Some(&k) = opts.killed.iter().find(|&&k| k >= robots) {
-        return Err(Error::Input(format!(
+        return Err(Error::Usage(format!(
             "--killed {k}: the run has {robots} robots, and at least one must survive to search"
         )));
     }
+    Ok((scenario, robots))
+}
+
+fn jobs(opts: &FailuresOptions, robots: usize, runs: u32) -> Vec<(usize, u32, Job)> {
+    let mut out = Vec::new();
+    for &k in &opts.killed {
+        for r in 0..runs {
+            let seed = run_seed(opts.seed, k, r);
+            let plan = FaultPlan { kill_random: k, ..FaultPlan::default() };
+            out.push((k, r, Job { robots, seed, plan, what: format!("run {r} with {k} killed, seed {seed}") }));
+        }
+    }
+    out
+}
+
+/// Runs the experiment; returns the rows and the text for stdout.
+pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
+    let (scenario, robots) = prepare(opts)?;
+    let runs_per = opts.runs.unwrap_or(match opts.engine {
+        Engine::InProcess => DEFAULT_RUNS,
+        Engine::Distributed => DEFAULT_RUNS_DISTRIBUTED,
+    });
     output::create_dir(&opts.out)?;
     let world = scenario.world();
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
         eprintln!("{w}");
     }
-
-    let total = opts.killed.len() * opts.runs as usize;
-    let bar = progress_bar(total as u64, opts.progress);
+    let planned = jobs(opts, robots, runs_per);
+    let job_list: Vec<Job> = planned.iter().map(|(_, _, j)| j.clone()).collect();
+    let setting =
+        Setting { scenario_arg: &opts.scenario, scenario: &scenario, algorithm: opts.algorithm, max_rounds: opts.max_rounds };
     let started = Instant::now();
-    let mut runs: Vec<FailureRun> = Vec::with_capacity(total);
-    let mut warnings: Vec<String> = Vec::new();
-    for &k in &opts.killed {
-        for r in 0..opts.runs {
-            let seed = run_seed(opts.seed, k, r);
-            let ro = RunOptions::for_experiment(
-                opts.scenario.clone(),
-                opts.algorithm,
-                robots,
-                seed,
-                scenario.situation,
-                k,
-                opts.suspect_ms,
-                opts.max_rounds,
-            );
-            let what = format!("run {r} with {k} killed, seed {seed}");
-            let v = run::execute_as(&ro, &what, &mut warnings).inspect_err(|_| bar.finish_and_clear())?;
-            runs.push(FailureRun::from_summary(k, r, seed, &v));
-            bar.inc(1);
-        }
-    }
-    bar.finish_and_clear();
+    let results = sweep::execute(opts.engine, &setting, &job_list, opts.progress)?;
     let wall_time_s = started.elapsed().as_secs_f64();
-    for w in &warnings {
-        eprintln!("{w}");
-    }
+    let runs: Vec<(usize, u32, ProtoRun)> = planned.iter().zip(results).map(|((k, r, _), p)| (*k, *r, p)).collect();
 
     let rows: Vec<FailureRow> = opts
         .killed
         .iter()
-        .map(|&k| FailureRow::of(k, &runs.iter().filter(|r| r.killed == k).cloned().collect::<Vec<_>>()))
+        .map(|&k| {
+            let mine: Vec<ProtoRun> = runs.iter().filter(|r| r.0 == k).map(|r| r.2.clone()).collect();
+            FailureRow { killed: k, stats: ProtoStats::of(&mine) }
+        })
         .collect();
-    let out = &opts.out;
-    output::write_text(&out.join("failures.csv"), &csv(&rows))?;
-    output::write_text(&out.join("failures-runs.csv"), &runs_csv(&runs))?;
-    let title = format!(
-        "{}: {} robots, {}, {} runs per point, robots killed at random rounds",
-        scenario.name, robots, opts.algorithm, opts.runs
-    );
-    let svg_path = out.join("failures.svg");
-    let svg = figure(&rows, &title).map_err(|message| Error::Plot { path: svg_path.clone(), message })?;
-    output::write_text(&svg_path, &svg)?;
-
-    let params = json!({
-        "scenario": scenario.name,
-        "grid": scenario.grid.name(),
-        "situation": scenario.situation.number(),
-        "algorithm": opts.algorithm.name(),
-        "robots": robots,
-        "killed": opts.killed,
-        "runs": opts.runs,
-        "seed": opts.seed,
-        "seed_derivation": "run r with k killed has seed derive(derive(seed, k), r) with gridswarm::rng::derive; \
-            its victims and kill rounds (1..=20) are drawn from that seed as by `run --kill-random k`",
-        "suspect_ms": opts.suspect_ms,
-        "max_rounds": opts.max_rounds,
-        "engine": "distributed: one world-server and one robot-agent process per robot over iceoryx2",
-        "statistics": "search time, rounds over completed runs (std n-1); collisions, refused moves, round wall \
-            p50 over all runs; detection delay over every detected kill (rounds and ms after the kill's round began)",
-        "params": scenario.params,
-    });
-    let tab = table(&rows);
-    let page = Report {
-        title: format!("Failures: {} scenario, {} robots", scenario.name, robots),
-        subtitle: format!(
-            "{} killed, {} runs each, base seed {}; {} distributed runs in {:.1} s wall time",
-            crate::robots::compress(&opts.killed).replace('-', "–"),
-            opts.runs,
-            opts.seed,
-            runs.len(),
-            wall_time_s
-        ),
-        sections: vec![
-            Section::new(
-                "Plots",
-                vec![Block::Figure {
-                    svg: svg.clone(),
-                    caption: "Against the number of robots SIGKILLed at random rounds: mean search time of the \
-                              completed runs (bars: one std), completion rate and collisions per run, and how long \
-                              after a kill the survivors declared the robot failed."
-                        .into(),
-                }],
-            ),
-            Section::new("Checks", vec![Block::Claims(checks(&rows))]),
-            Section::new("Results", vec![Block::Table(tab.clone())]),
-            Section::new("Runs", vec![Block::Table(runs_table(&runs))]),
-            Section::new("Parameters", vec![Block::Params(report::params_of("", &params))]),
-            Section::new(
-                "Files",
-                vec![Block::Files(
-                    [
-                        ("failures.csv", "the results table"),
-                        ("failures-runs.csv", "every run"),
-                        ("failures.svg", "the figure"),
-                    ]
-                    .map(|(a, b)| (a.to_string(), b.to_string()))
-                    .to_vec(),
-                )],
-            ),
-        ],
-    };
-    output::write_text(&out.join("report.html"), &report::render(&page))?;
-    let text = format!(
-        "failures: scenario {}, {} robots, algorithm {}, {} runs per count, base seed {}\n{}\n\
-         {} runs in {wall_time_s:.1} s; wrote failures.csv, failures-runs.csv, failures.svg, report.html in {}\n",
-        scenario.name,
-        robots,
-        opts.algorithm,
-        opts.runs,
-        opts.seed,
-        text_table(&tab),
-        runs.len(),
-        out.display()
-    );
-    Ok((rows, text))
+    let page = Page { opts, scenario: &scenario, robots, runs_per, wall_time_s, runs: &runs, rows: &rows };
+    page.write()?;
+    Ok((rows.clone(), page.text()))
 }
 
-fn runs_table(runs: &[FailureRun]) -> Table {
-    Table {
-        header: ["killed", "run", "seed", "complete", "time (s)", "rounds", "collisions", "refused", "detected"]
-            .map(String::from)
-            .to_vec(),
-        rows: runs
-            .iter()
-            .map(|r| {
-                vec![
-                    r.killed.to_string(),
-                    r.run.to_string(),
-                    r.seed.to_string(),
-                    r.complete.to_string(),
-                    format!("{:.1}", r.search_time_s),
-                    r.rounds.to_string(),
-                    r.collisions.to_string(),
-                    r.refused_moves.to_string(),
-                    format!("{}/{}", r.detected, r.injected),
-                ]
-            })
-            .collect(),
+/// What the experiment writes, and its terminal text.
+struct Page<'a> {
+    opts: &'a FailuresOptions,
+    scenario: &'a gridswarm::scenario::Scenario,
+    robots: usize,
+    runs_per: u32,
+    wall_time_s: f64,
+    runs: &'a [(usize, u32, ProtoRun)],
+    rows: &'a [FailureRow],
+}
+
+impl Page<'_> {
+    fn title(&self) -> String {
+        format!(
+            "{}: {} robots, {}, {} runs per point, robots crashed at random times inside rounds",
+            self.scenario.name, self.robots, self.opts.algorithm, self.runs_per
+        )
+    }
+
+    fn params(&self) -> serde_json::Value {
+        let o = self.opts;
+        json!({
+            "scenario": self.scenario.name,
+            "grid": self.scenario.grid.name(),
+            "situation": self.scenario.situation.number(),
+            "algorithm": o.algorithm.name(),
+            "robots": self.robots,
+            "killed": o.killed,
+            "runs": self.runs_per,
+            "seed": o.seed,
+            "seed_derivation": "run r with k killed has seed derive(derive(seed, k), r) with gridswarm::rng::derive; \
+                its victims and crash times are drawn from that seed as by `--kill-random k`",
+            "reproduce": format!(
+                "gridswarm simulate --scenario {} --situation {} --algorithm {} --robots {} --seed SEED \
+                 --kill-random K --max-rounds {} (SEED and K from failures-runs.csv)",
+                o.scenario,
+                self.scenario.situation.number(),
+                o.algorithm,
+                self.robots,
+                o.max_rounds
+            ),
+            "crash_times": format!("rounds 1 to {}, at an offset below {} s into the round", schedule::RANDOM_ROUNDS, schedule::RANDOM_OFFSET_S),
+            "max_rounds": o.max_rounds,
+            "engine": o.engine.describe(),
+            "statistics": "search time (mean ± 1.96 std/sqrt(n)) and rounds over completed runs; counts are means per \
+                run over all runs; collisions per 10^6 moves pool every run; detection delay over every detected \
+                crash (rounds, and simulated s after the crash)",
+            "params": self.scenario.params,
+        })
+    }
+
+    fn write(&self) -> Result<()> {
+        let out = &self.opts.out;
+        output::write_text(&out.join("failures.csv"), &csv(self.rows))?;
+        output::write_text(&out.join("failures-runs.csv"), &runs_csv(self.runs))?;
+        let svg_path = out.join("failures.svg");
+        let svg = figure(self.rows, &self.title()).map_err(|message| Error::Plot { path: svg_path.clone(), message })?;
+        output::write_text(&svg_path, &svg)?;
+        output::write_text(&out.join("report.html"), &report::render(&self.report(svg)))
+    }
+
+    fn report(&self, svg: String) -> Report {
+        let files = [
+            ("failures.csv", "the results table"),
+            ("failures-runs.csv", "every run"),
+            ("failures.svg", "the figure"),
+        ];
+        Report {
+            title: format!("Failures: {} scenario, {} robots", self.scenario.name, self.robots),
+            subtitle: format!(
+                "{} killed, {} runs each, base seed {}; {} runs in {:.1} s wall time ({})",
+                crate::robots::compress(&self.opts.killed).replace('-', "–"),
+                self.runs_per,
+                self.opts.seed,
+                self.runs.len(),
+                self.wall_time_s,
+                self.opts.engine.describe()
+            ),
+            sections: vec![
+                Section::new(
+                    "Plots",
+                    vec![Block::Figure {
+                        svg,
+                        caption: "Against the number of robots crashed at random times inside rounds: mean search \
+                                  time of the completed runs (bars: 95% CI), completion rate, how long after a crash \
+                                  a survivor first declared it, and the protocol's false suspicions, rejoins, unsure \
+                                  stays and collisions per 10^6 moves."
+                            .into(),
+                    }],
+                ),
+                Section::new("Checks", vec![Block::Claims(checks(self.rows))]),
+                Section::new("Results", vec![Block::Table(table(self.rows))]),
+                Section::new("Parameters", vec![Block::Params(report::params_of("", &self.params()))]),
+                Section::new(
+                    "Files",
+                    vec![Block::Files(files.map(|(a, b)| (a.to_string(), b.to_string())).to_vec())],
+                ),
+            ],
+        }
+    }
+
+    fn text(&self) -> String {
+        format!(
+            "failures: scenario {}, {} robots, algorithm {}, {} runs per count, base seed {}, engine {}\n{}\n\
+             {} runs in {:.1} s; wrote failures.csv, failures-runs.csv, failures.svg, report.html in {}\n",
+            self.scenario.name,
+            self.robots,
+            self.opts.algorithm,
+            self.runs_per,
+            self.opts.seed,
+            self.opts.engine.name(),
+            text_table(&table(self.rows)),
+            self.runs.len(),
+            self.wall_time_s,
+            self.opts.out.display()
+        )
     }
 }
 
-/// What the distributed protocol promises under failures, checked on the runs.
+/// What the protocol promises under crashes, checked on the runs.
 fn checks(rows: &[FailureRow]) -> Vec<Claim> {
     let verdict = |ok: bool| if ok { Verdict::Holds } else { Verdict::Fails };
-    let runs: usize = rows.iter().map(|r| r.runs).sum();
-    let collisions: f64 = rows.iter().map(|r| r.mean_collisions * r.runs as f64).sum();
-    let (inj, det): (usize, usize) = rows.iter().fold((0, 0), |a, r| (a.0 + r.injected, a.1 + r.detected));
-    let done: usize = rows.iter().map(|r| r.completed_runs).sum();
+    let collisions: u64 = rows.iter().map(|r| r.stats.collisions).sum();
+    let (inj, det): (usize, usize) = rows.iter().fold((0, 0), |a, r| (a.0 + r.stats.injected, a.1 + r.stats.detected));
+    let unaware: usize = rows.iter().map(|r| r.stats.unaware).sum();
+    let false_susp: f64 = rows.iter().map(|r| r.stats.mean_false_suspicions * r.stats.runs as f64).sum();
     vec![
         Claim {
             id: "1".into(),
             statement: "No collisions, whatever the number killed.".into(),
             criterion: "zero collisions in every run".into(),
-            verdict: verdict(collisions == 0.0),
+            verdict: verdict(collisions == 0),
             evidence: rows
                 .iter()
-                .map(|r| format!("{} killed: {:.2} collisions per run", r.killed, r.mean_collisions))
+                .map(|r| format!("{} killed: {} collisions in {} moves", r.killed, r.stats.collisions, r.stats.moves))
                 .collect(),
         },
         Claim {
             id: "2".into(),
-            statement: "Every killed robot is detected by the survivors.".into(),
-            criterion: "detected kills = applied kills".into(),
-            verdict: if inj == 0 { Verdict::NotEvaluated } else { verdict(det == inj) },
-            evidence: vec![format!("{det} of {inj} applied kills detected")],
+            statement: "A crashed robot that a survivor waits on is declared by it.".into(),
+            criterion: "no survivor waited on a crashed robot, kept searching suspect_rounds + 1 more rounds, and \
+                        never declared it (a crash far from every survivor blocks nobody and may go undeclared)"
+                .into(),
+            verdict: if inj == 0 { Verdict::NotEvaluated } else { verdict(unaware == 0) },
+            evidence: vec![format!("{det} of {inj} crashes declared; {unaware} unaware waiters")],
         },
         Claim {
             id: "3".into(),
+            statement: "No running robot is declared failed on a perfect radio.".into(),
+            criterion: "zero false suspicions".into(),
+            verdict: verdict(false_susp == 0.0),
+            evidence: vec![format!("{false_susp:.0} false suspicions in all")],
+        },
+        Claim {
+            id: "4".into(),
             statement: "The survivors complete the search.".into(),
-            criterion: "every run finds every target within the round limit".into(),
-            verdict: verdict(done == runs),
+            criterion: "every run complete within the round limit".into(),
+            verdict: verdict(rows.iter().all(|r| r.stats.completed_runs == r.stats.runs)),
             evidence: rows
                 .iter()
-                .map(|r| format!("{} killed: {}/{} complete", r.killed, r.completed_runs, r.runs))
+                .map(|r| format!("{} killed: {}/{} complete ({})", r.killed, r.stats.completed_runs, r.stats.runs, r.stats.endings()))
                 .collect(),
         },
     ]
@@ -570,26 +465,12 @@ mod tests {
     }
 
     #[test]
-    fn rows_from_summaries() {
-        let v = json!({
-            "complete": true, "search_time_s": 100.0, "rounds": 10, "collisions": 0, "refused_moves": 2,
-            "failures_injected": [{"applied": true}, {"applied": false}],
-            "failures_detected": [{"injected_round": 3, "delay_rounds": 1, "delay_ms": 20.0}],
-            "round_wall_ms": {"p50": 0.5}, "run_wall_ms": 300.0,
-        });
-        let a = FailureRun::from_summary(2, 0, 9, &v);
-        assert_eq!((a.injected, a.detected, a.refused_moves), (1, 1, 2));
-        let mut b = a.clone();
-        b.complete = false;
-        b.delay_ms = vec![40.0];
-        let row = FailureRow::of(2, &[a, b]);
-        assert_eq!(row.completion_rate, 0.5);
-        assert_eq!(row.mean_search_time_s, Some(100.0));
-        assert_eq!(row.mean_delay_ms, Some(30.0));
-        let text = csv(&[row]);
-        assert_eq!(text.lines().next().unwrap(), CSV_HEADER);
-        assert_eq!(text.lines().nth(1).unwrap().split(',').count(), CSV_HEADER.split(',').count());
+    fn seeds_and_csv_shape() {
         assert_ne!(run_seed(1, 0, 0), run_seed(1, 1, 0));
         assert_ne!(run_seed(1, 0, 0), run_seed(1, 0, 1));
+        let row = FailureRow { killed: 2, stats: ProtoStats::of(&[ProtoRun::default()]) };
+        let text = csv(&[row]);
+        assert_eq!(text.lines().next().unwrap(), csv_header());
+        assert_eq!(text.lines().nth(1).unwrap().split(',').count(), csv_header().split(',').count());
     }
 }

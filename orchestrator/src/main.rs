@@ -12,16 +12,18 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
-use gridswarm_orchestrator::experiment::{DEFAULT_MAX_ROUNDS, 
-    self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
+use gridswarm_orchestrator::experiment::{
+    self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_MAX_ROUNDS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
 };
 use gridswarm_orchestrator::failures::{self, FailuresOptions};
+use gridswarm_orchestrator::faults::{FaultFlags, RunBase};
 use gridswarm_orchestrator::grids::{self, GridsOptions};
+use gridswarm_orchestrator::radio::{self, RadioOptions};
 use gridswarm_orchestrator::robots::{RobotCounts, MAX_ROBOTS};
 use gridswarm_orchestrator::scale::{self, ScaleOptions};
 use gridswarm_orchestrator::simulate::{self, SimulateOptions};
+use gridswarm_orchestrator::sweep::Engine;
 use gridswarm_orchestrator::{check, Error};
-
 
 #[derive(Parser, Debug)]
 #[command(name = "gridswarm", version, about = "Decentralized multi-robot search on a grid (Yang, CCC 2017)")]
@@ -33,7 +35,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// One search: a summary, or one JSON object; with --out, its files.
+    /// One search in-process: a summary, or one JSON object; with --out, its files.
+    /// Takes the same failure and radio flags as `run`.
     Simulate {
         /// Built-in scenario (paper, open, cave, large) or a TOML file.
         #[arg(long, default_value = "paper")]
@@ -59,10 +62,12 @@ enum Command {
         /// A run not stopped after this many rounds ends incomplete.
         #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
         max_rounds: u32,
+        #[command(flatten)]
+        faults: FaultFlags,
     },
     /// The Monte Carlo sweep of Fig. 7 and its claims; with --grids, the
-    /// lattice comparison of Sec. 3 instead; `failures` and `scale` for the
-    /// distributed engine.
+    /// lattice comparison of Sec. 3 instead; `failures`, `radio` and `scale`
+    /// for the protocol under crashes, radio loss and growing robot counts.
     ///
     /// Writes results.csv, runs.csv, fig7.svg, claims.txt, summary.json and
     /// report.html (grids.csv and grids.html with --grids) in --out, and
@@ -119,15 +124,6 @@ enum Command {
         robots: Option<u32>,
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// SIGKILL robot ROBOT at the start of round ROUND (repeatable).
-        #[arg(long, value_name = "ROBOT@ROUND", value_parser = gridswarm_orchestrator::run::parse_kill)]
-        kill: Vec<(usize, u32)>,
-        /// SIGSTOP robot ROBOT at the start of round ROUND, SIGCONT at WAKE (repeatable).
-        #[arg(long, value_name = "ROBOT@ROUND[:WAKE]", value_parser = gridswarm_orchestrator::run::parse_freeze)]
-        freeze: Vec<(usize, u32, Option<u32>)>,
-        /// SIGKILL K distinct robots at rounds 1..=20, drawn from the seed.
-        #[arg(long, value_name = "K", default_value_t = 0)]
-        kill_random: usize,
         /// Write summary.json, trajectories.jsonl, routes.svg (and the replay files) here.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -136,9 +132,8 @@ enum Command {
         json: bool,
         #[command(flatten)]
         distributed: Distributed,
-        /// Testing: robot ROBOT takes MS milliseconds over each round's sensing.
-        #[arg(long, hide = true, value_name = "ROBOT@MS", value_parser = gridswarm_orchestrator::run::parse_kill)]
-        slow: Vec<(usize, u32)>,
+        #[command(flatten)]
+        faults: FaultFlags,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     Check {
@@ -148,12 +143,12 @@ enum Command {
     },
 }
 
-/// The experiments on the distributed engine (`gridswarm experiment KIND`).
+/// The protocol experiments (`gridswarm experiment KIND`).
 #[derive(Subcommand, Debug)]
 enum ExperimentKind {
-    /// Distributed runs with 0, 1, 2, ... robots SIGKILLed at random rounds:
-    /// search time, completion, collisions and detection delay against the
-    /// number killed.
+    /// Runs with 0, 1, 2, ... robots crashed at random times inside rounds:
+    /// completion, search time, detection delay, false suspicions, rejoins,
+    /// retransmissions, collisions and unsure stays against the number killed.
     ///
     /// Writes failures.csv, failures-runs.csv, failures.svg and report.html
     /// in --out and prints the table.
@@ -165,21 +160,61 @@ enum ExperimentKind {
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots (the paper's Fig. 7 goes up to 13).
-        #[arg(long, default_value_t = failures::DEFAULT_ROBOTS, value_parser = clap::value_parser!(u32).range(1..=gridswarm::ipc::MAX_ROBOTS as i64))]
+        #[arg(long, default_value_t = failures::DEFAULT_ROBOTS, value_parser = clap::value_parser!(u32).range(1..=MAX_ROBOTS as i64))]
         robots: u32,
         /// Numbers of robots to kill: `0-3`, `2` or `0,2,4`.
         #[arg(long, default_value = failures::DEFAULT_KILLED)]
         killed: failures::Killed,
-        /// Runs per number killed.
-        #[arg(long, default_value_t = failures::DEFAULT_RUNS, value_parser = clap::value_parser!(u32).range(1..))]
-        runs: u32,
+        /// Runs per number killed [default: 500 in-process, 10 distributed].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        runs: Option<u32>,
         /// Base seed; run r with k killed has seed derive(derive(seed, k), r).
         #[arg(long, default_value_t = 1)]
         seed: u64,
         #[command(flatten)]
         distributed: Distributed,
+        /// Which engine runs the runs.
+        #[arg(long, value_enum, default_value_t = Engine::InProcess)]
+        engine: Engine,
         /// Output directory (created if missing).
         #[arg(long, default_value = failures::DEFAULT_OUT)]
+        out: PathBuf,
+    },
+    /// The protocol on a lossy radio: loss P × robot counts × retransmissions,
+    /// each run many times: collisions per 10^6 moves, completion, search
+    /// time, retransmissions, time-outs and unsure stays, false suspicions.
+    ///
+    /// Writes radio.csv, radio-runs.csv, radio.svg and report.html in --out
+    /// and prints the table.
+    Radio {
+        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        #[arg(long, default_value = "paper")]
+        scenario: String,
+        /// repulsive, sequential, ru or escape (grid policies only).
+        #[arg(long, default_value = "repulsive")]
+        algorithm: Policy,
+        /// Loss probabilities per transmission per link, each 0 to 1.
+        #[arg(long, default_value = radio::DEFAULT_LOSS)]
+        loss: radio::Losses,
+        /// Robot counts: `4,8,13`, `5` or `3-6`.
+        #[arg(long, default_value = radio::DEFAULT_ROBOTS)]
+        robots: RobotCounts,
+        /// Retransmission counts (extra copies of every frame).
+        #[arg(long, default_value = radio::DEFAULT_RETRIES)]
+        retries: radio::RetryCounts,
+        /// Runs per point [default: 100 in-process, 3 distributed].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        runs: Option<u32>,
+        /// Base seed; run r with N robots has seed derive(derive(seed, N), r) for every loss and retries.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[command(flatten)]
+        distributed: Distributed,
+        /// Which engine runs the runs.
+        #[arg(long, value_enum, default_value_t = Engine::InProcess)]
+        engine: Engine,
+        /// Output directory (created if missing).
+        #[arg(long, default_value = radio::DEFAULT_OUT)]
         out: PathBuf,
     },
     /// Distributed runs at growing robot counts: wall time per round
@@ -223,15 +258,12 @@ fn situation(n: Option<u8>) -> Option<Situation> {
     n.and_then(Situation::from_number)
 }
 
-/// The settings every distributed run takes, whichever command starts it.
+/// The settings every protocol run takes, whichever command starts it.
 #[derive(clap::Args, Debug)]
 struct Distributed {
     /// 1: the number of targets is known; 2: it is not [default: the scenario's].
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
     situation: Option<u8>,
-    /// A robot silent this long, with nothing it waits for missing, is declared failed.
-    #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
-    suspect_ms: u64,
     /// A run not stopped after this many rounds ends incomplete.
     #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
     max_rounds: u32,
@@ -248,6 +280,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
             runs,
             seed,
             distributed: d,
+            engine,
             out,
         } => {
             let opts = FailuresOptions {
@@ -258,12 +291,29 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 runs,
                 seed,
                 situation: situation(d.situation),
-                suspect_ms: d.suspect_ms,
                 max_rounds: d.max_rounds,
+                engine,
                 out,
                 progress,
             };
             failures::run(&opts)?.1
+        }
+        ExperimentKind::Radio { scenario, algorithm, loss, robots, retries, runs, seed, distributed: d, engine, out } => {
+            let opts = RadioOptions {
+                scenario,
+                algorithm,
+                loss: loss.0,
+                robots: robots.0,
+                retries: retries.0,
+                runs,
+                seed,
+                situation: situation(d.situation),
+                max_rounds: d.max_rounds,
+                engine,
+                out,
+                progress,
+            };
+            radio::run(&opts)?.1
         }
         ExperimentKind::Scale { robots, runs, seed, scenario, algorithm, distributed: d, out } => {
             let opts = ScaleOptions {
@@ -273,7 +323,6 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 scenario,
                 algorithm,
                 situation: situation(d.situation),
-                suspect_ms: d.suspect_ms,
                 max_rounds: d.max_rounds,
                 out,
                 progress,
@@ -285,7 +334,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
 
 fn run(cli: Cli) -> Result<ExitCode, Error> {
     match cli.command {
-        Command::Simulate { scenario, algorithm, robots, seed, situation: s, out, json, max_rounds } => {
+        Command::Simulate { scenario, algorithm, robots, seed, situation: s, out, json, max_rounds, faults } => {
             let opts = SimulateOptions {
                 scenario,
                 algorithm,
@@ -295,6 +344,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 out,
                 json,
                 max_rounds,
+                faults: faults.plan(),
             };
             emit(&simulate::simulate(&opts)?);
         }
@@ -332,35 +382,20 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Replay { dir } => {
             emit(&format!("{}\n", gridswarm_orchestrator::replay::write(&dir)?.display()));
         }
-        Command::Run {
-            scenario,
-            algorithm,
-            robots,
-            seed,
-            kill,
-            freeze,
-            kill_random,
-            distributed: d,
-            out,
-            json,
-            slow,
-        } => {
-            let opts = gridswarm_orchestrator::run::RunOptions {
+        Command::Run { scenario, algorithm, robots, seed, distributed: d, out, json, faults } => {
+            let base = RunBase {
                 scenario,
                 algorithm,
                 robots: robots.map(|r| r as usize),
                 seed,
                 situation: situation(d.situation),
-                kills: kill,
-                freezes: freeze,
-                kill_random,
-                suspect_ms: d.suspect_ms,
+                max_rounds: d.max_rounds,
                 out,
                 json,
-                max_rounds: d.max_rounds,
-                slow,
             };
-            emit(&gridswarm_orchestrator::run::run(&opts)?);
+            let plan = faults.plan();
+            plan.check_scenario(&base)?;
+            emit(&gridswarm_orchestrator::run::run(&plan.run_options(base))?);
         }
         Command::Check { scenario } => {
             let outcome = check::check(&scenario)?;
@@ -399,7 +434,7 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            ExitCode::from(e.exit_code())
         }
     }
 }

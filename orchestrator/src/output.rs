@@ -105,6 +105,40 @@ pub fn csv_num(x: Option<f64>) -> String {
     x.map(|v| format!("{v:.6}")).unwrap_or_default()
 }
 
+/// The lines that open a run's report on the terminal, for either engine:
+/// what was run, then how it ended (the engine's own `ended_by`, never a
+/// guess), then for grid policies the protocol's counts and one line per
+/// injected failure with its detection delay. `engine` follows the first
+/// line (e.g. ": one process per robot"); `extra` goes before the coverage.
+pub fn headline(scenario: &Scenario, result: &RunResult, engine: &str, extra: &str) -> String {
+    let ended = &result.protocol.ended_by;
+    let how = if result.complete { "complete" } else { "INCOMPLETE" };
+    let mut s = format!(
+        "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}{engine}\n\
+         {how} ({}: {}) after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; {extra}coverage {}\n",
+        scenario.name,
+        scenario.grid.name(),
+        result.algorithm.name(),
+        result.algorithm.paper_label(),
+        result.robots,
+        result.seed,
+        result.situation,
+        if ended.is_empty() { "-" } else { ended.as_str() },
+        crate::figures::ended_by_phrase(ended),
+        result.rounds,
+        result.search_time_s,
+        result.targets_found,
+        result.targets_total,
+        result.collisions,
+        result.coverage.map(|c| format!("{c:.4}")).unwrap_or_else(|| "not measured".into())
+    );
+    if result.algorithm.on_grid() {
+        s += &crate::figures::protocol_line(result);
+        s += &crate::figures::failure_lines(result);
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -155,28 +189,4 @@ mod tests {
         assert_eq!(fixed(-0.5), "-0.500000");
         assert_eq!(fixed(12.3456789), "12.345679");
     }
-}
-
-/// The two lines that open a run's report on the terminal, for either
-/// engine: what was run, then how it ended. `engine` follows the first line
-/// (e.g. ": one process per robot"); `extra` goes before the coverage.
-pub fn headline(scenario: &Scenario, result: &RunResult, engine: &str, extra: &str) -> String {
-    format!(
-        "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}{engine}\n\
-         {} after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; {extra}coverage {}\n",
-        scenario.name,
-        scenario.grid.name(),
-        result.algorithm.name(),
-        result.algorithm.paper_label(),
-        result.robots,
-        result.seed,
-        result.situation,
-        if result.complete { "complete" } else { "INCOMPLETE (round limit)" },
-        result.rounds,
-        result.search_time_s,
-        result.targets_found,
-        result.targets_total,
-        result.collisions,
-        result.coverage.map(|c| format!("{c:.4}")).unwrap_or_else(|| "not measured".into())
-    )
 }

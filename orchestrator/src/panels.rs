@@ -5,13 +5,18 @@
 use plotters::prelude::*;
 
 /// Series colours, in order (the same palette as Fig. 7).
-pub const PALETTE: [RGBColor; 6] = [
+/// Ten, so that the radio experiment's default series stay distinct.
+pub const PALETTE: [RGBColor; 10] = [
     RGBColor(0x1f, 0x77, 0xb4),
     RGBColor(0xff, 0x7f, 0x0e),
     RGBColor(0x2c, 0xa0, 0x2c),
     RGBColor(0xd6, 0x27, 0x28),
     RGBColor(0x94, 0x67, 0xbd),
     RGBColor(0x8c, 0x56, 0x4b),
+    RGBColor(0xe3, 0x77, 0xc2),
+    RGBColor(0x7f, 0x7f, 0x7f),
+    RGBColor(0xbc, 0xbd, 0x22),
+    RGBColor(0x17, 0xbe, 0xcf),
 ];
 
 /// One line: points `(x, y)` with an optional error half-width each.
@@ -94,7 +99,11 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
         if !x0.is_finite() {
             (x0, x1) = (0.0, 1.0);
         }
-        let pad = ((x1 - x0) * 0.05).max(0.5);
+        // Whole-number variables (robot counts) get a tick per integer;
+        // fractions (a probability) get plotters' own ticks.
+        let whole = xs.iter().all(|x| (x - x.round()).abs() < 1e-9);
+        let pad = if whole { ((x1 - x0) * 0.05).max(0.5) } else { ((x1 - x0) * 0.05).max(1e-3) };
+        let x_ticks = if whole { ((x1 - x0).round() as usize).clamp(1, 10) + 1 } else { 8 };
         for (panel, area) in panels.iter().zip(&areas) {
             let tf = |y: f64| if panel.log_y { y.max(1e-9).log10() } else { y };
             let ys: Vec<f64> = panel
@@ -134,9 +143,11 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
                 .y_desc(&panel.y_desc)
                 .axis_desc_style(("sans-serif", 14))
                 .label_style(("sans-serif", 12))
-                .x_labels(((x1 - x0).round() as usize).clamp(1, 10) + 1)
+                .x_labels(x_ticks)
                 .x_label_formatter(&|x| {
-                    if (x - x.round()).abs() < 1e-6 {
+                    if !whole {
+                        format!("{}", (x * 1e4).round() / 1e4)
+                    } else if (x - x.round()).abs() < 1e-6 {
                         format!("{}", x.round() as i64)
                     } else {
                         String::new()

@@ -22,6 +22,8 @@
 //!     from 0 as in `trajectories.jsonl`; other keys (`at`, `cause`,
 //!     `detected_by`, `at_ms`: `gridswarm::ipc::Detection`) are ignored. The
 //!     robot is drawn failed from round `k` on.
+//!   - without it, `failures` (every run's summary): each entry with a
+//!     `detected_round` is drawn failed from that round on.
 //!   - `refused_moves`: either a count (shown as a total) or
 //!     `[{"robot": r, "round": k}, ...]` (each marked at that robot in round `k`).
 
@@ -63,6 +65,20 @@ pub struct Failure {
 pub struct Refusal {
     pub robot: usize,
     pub round: u32,
+}
+
+/// Without `failures_detected`: the failures of `summary.json`'s
+/// `failures` list that some robot declared, drawn failed from the round
+/// of the first declaration (entries of another shape are skipped).
+fn declared(summary: &Value) -> Vec<Failure> {
+    let list = summary.get("failures").and_then(Value::as_array).map(Vec::as_slice).unwrap_or_default();
+    list.iter()
+        .filter_map(|f| {
+            let robot = f.get("robot")?.as_u64()? as usize;
+            let round = f.get("detected_round")?.as_u64()? as u32;
+            Some(Failure { robot, round })
+        })
+        .collect()
 }
 
 /// A run directory's files, read and checked.
@@ -111,7 +127,7 @@ impl Recorded {
         }
         let bad = |message: String| Error::Read { path: spath.clone(), message };
         let failures: Vec<Failure> = match summary.get("failures_detected") {
-            None | Some(Value::Null) => Vec::new(),
+            None | Some(Value::Null) => declared(&summary),
             Some(v) => Vec::deserialize(v).map_err(|e| {
                 bad(format!("failures_detected: expected [{{\"robot\": r, \"round\": k, ...}}, ...]: {e}"))
             })?,

@@ -415,6 +415,28 @@ pub fn fig7(x: &Fig7Inputs) -> Report {
     }
 }
 
+/// A table as aligned text for the terminal: the first column left-aligned,
+/// the others right-aligned.
+pub fn text_table(t: &Table) -> String {
+    let cols = t.header.len();
+    let width: Vec<usize> = (0..cols)
+        .map(|c| t.rows.iter().map(|r| r[c].chars().count()).chain([t.header[c].chars().count()]).max().unwrap_or(0))
+        .collect();
+    let mut s = String::new();
+    for row in std::iter::once(&t.header).chain(&t.rows) {
+        let cells: Vec<String> = row
+            .iter()
+            .enumerate()
+            .map(|(c, x)| {
+                let pad = " ".repeat(width[c].saturating_sub(x.chars().count()));
+                if c == 0 { format!("{x}{pad}") } else { format!("{pad}{x}") }
+            })
+            .collect();
+        let _ = writeln!(s, "{}", cells.join("  ").trim_end());
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

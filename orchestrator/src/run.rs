@@ -27,7 +27,7 @@ use gridswarm::lattice::Coord;
 use gridswarm::outcome::Pose;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
-use gridswarm::rng;
+use gridswarm::sim::{self, Fault, FaultKind};
 use serde_json::{json, Value};
 
 use crate::check;
@@ -36,8 +36,6 @@ use crate::error::{Error, Result};
 use crate::launch::{self, Event};
 use crate::rundir::{self, RunRecord};
 
-/// Rounds `--kill-random` draws from.
-pub const RANDOM_ROUNDS: u32 = 20;
 /// How long agents get to exit by themselves after the end.
 const AGENT_GRACE: Duration = Duration::from_secs(5);
 
@@ -67,46 +65,10 @@ pub struct Injection {
     pub wake: Option<u32>,
 }
 
-/// `ROBOT@ROUND`.
-pub fn parse_kill(s: &str) -> std::result::Result<(usize, u32), String> {
-    let (r, k) = s
-        .split_once('@')
-        .ok_or_else(|| format!("`{s}`: expected ROBOT@ROUND, e.g. 3@5"))?;
-    let robot = r
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{s}`: robot `{r}` is not a number"))?;
-    let round = k
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{s}`: round `{k}` is not a number"))?;
-    Ok((robot, round))
-}
-
-/// `ROBOT@ROUND` or `ROBOT@ROUND:WAKE_ROUND`.
-pub fn parse_freeze(s: &str) -> std::result::Result<(usize, u32, Option<u32>), String> {
-    let (head, wake) = match s.split_once(':') {
-        Some((h, w)) => (
-            h,
-            Some(
-                w.trim()
-                    .parse::<u32>()
-                    .map_err(|_| format!("`{s}`: wake round `{w}` is not a number"))?,
-            ),
-        ),
-        None => (s, None),
-    };
-    let (robot, round) =
-        parse_kill(head).map_err(|e| e.replace("ROBOT@ROUND", "ROBOT@ROUND[:WAKE]"))?;
-    if let Some(w) = wake {
-        if w <= round {
-            return Err(format!(
-                "`{s}`: the wake round must come after the freeze round"
-            ));
-        }
-    }
-    Ok((robot, round, wake))
-}
+/// A robot silent this long (while nothing it waits for is missing) is
+/// declared failed by this build's world-server, which predates the
+/// simulated world's protocol timing.
+const SUSPECT_MS: u64 = 2000;
 
 #[derive(Clone, Debug)]
 pub struct RunOptions {
@@ -115,23 +77,21 @@ pub struct RunOptions {
     pub robots: Option<usize>,
     pub seed: u64,
     pub situation: Option<Situation>,
-    pub kills: Vec<(usize, u32)>,
-    pub freezes: Vec<(usize, u32, Option<u32>)>,
+    pub max_rounds: u32,
+    pub radio: sim::Radio,
+    /// Overrides the scenario's `params.retries`.
+    pub retries: Option<u32>,
+    /// Faults given explicitly.
+    pub faults: Vec<Fault>,
+    /// Crash this many more robots at times drawn from the seed.
     pub kill_random: usize,
-    /// A robot silent this long (while nothing it waits for is missing) is declared failed.
-    pub suspect_ms: u64,
     pub out: Option<PathBuf>,
     pub json: bool,
-    pub max_rounds: u32,
-    /// Testing: robots that take this many milliseconds over each round's
-    /// sensing (a robot on a loaded machine, wrongly suspected).
-    pub slow: Vec<(usize, u32)>,
 }
 
 impl RunOptions {
-    /// A run for an experiment: no files, nothing printed, and no failures
-    /// but `kill_random` robots killed at random rounds.
-    #[allow(clippy::too_many_arguments)]
+    /// A run for an experiment: no files, nothing printed, a perfect radio,
+    /// and no faults but `kill_random` robots crashed at random times.
     pub fn for_experiment(
         scenario: String,
         algorithm: Policy,
@@ -139,7 +99,6 @@ impl RunOptions {
         seed: u64,
         situation: Situation,
         kill_random: usize,
-        suspect_ms: u64,
         max_rounds: u32,
     ) -> Self {
         RunOptions {
@@ -148,89 +107,49 @@ impl RunOptions {
             robots: Some(robots),
             seed,
             situation: Some(situation),
-            kills: vec![],
-            freezes: vec![],
+            max_rounds,
+            radio: sim::Radio::default(),
+            retries: None,
+            faults: Vec::new(),
             kill_random,
-            suspect_ms,
             out: None,
             json: true,
-            max_rounds,
-            slow: vec![],
         }
     }
 }
 
-/// The injection schedule: the given kills and freezes, and `kill_random`
-/// more kills of distinct robots at rounds 1..=[`RANDOM_ROUNDS`], drawn from
-/// the seed (the same seed, the same schedule). One injection per robot.
+/// Robots that react late, and by how many milliseconds (`--slow`).
+fn slow(opts: &RunOptions) -> Vec<(usize, u32)> {
+    opts.faults
+        .iter()
+        .filter_map(|f| match f.kind {
+            FaultKind::Slow(t) => Some((f.robot, (t / 1000) as u32)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The injection schedule: the given crashes and freezes, and
+/// `kill_random` more crashes drawn from the seed. This build's world-server
+/// injects at the start of a round only, and has no simulated radio.
 pub fn schedule(opts: &RunOptions, robots: usize) -> Result<Vec<Injection>> {
+    if !opts.radio.is_perfect() || opts.retries.is_some() {
+        return Err(Error::Input(
+            "this build's world-server has no simulated radio: --loss, --delay, --dup and --retries need the new distributed engine".into(),
+        ));
+    }
+    sim::schedule::check(&opts.faults, robots).map_err(Error::Input)?;
+    let taken: Vec<usize> = opts.faults.iter().map(|f| f.robot).collect();
+    let mut faults = opts.faults.clone();
+    faults.extend(sim::schedule::kill_random(opts.seed, robots, opts.kill_random, &taken).map_err(Error::Input)?);
     let mut out: Vec<Injection> = Vec::new();
-    let mut used = BTreeSet::new();
-    let mut add = |inj: Injection, out: &mut Vec<Injection>| -> Result<()> {
-        if inj.robot >= robots {
-            return Err(Error::Input(format!(
-                "robot {} does not exist: the run has {robots} robots (0..{robots})",
-                inj.robot
-            )));
+    for f in &faults {
+        let wake = || faults.iter().find(|g| g.robot == f.robot && g.kind == FaultKind::Thaw).map(|g| g.round);
+        match f.kind {
+            FaultKind::Crash => out.push(Injection { robot: f.robot, round: f.round, kind: Kind::Kill, wake: None }),
+            FaultKind::Freeze => out.push(Injection { robot: f.robot, round: f.round, kind: Kind::Freeze, wake: wake() }),
+            FaultKind::Thaw | FaultKind::Slow(_) => {}
         }
-        if !used.insert(inj.robot) {
-            return Err(Error::Input(format!(
-                "robot {} is given more than one failure",
-                inj.robot
-            )));
-        }
-        out.push(inj);
-        Ok(())
-    };
-    for &(robot, round) in &opts.kills {
-        add(
-            Injection {
-                robot,
-                round,
-                kind: Kind::Kill,
-                wake: None,
-            },
-            &mut out,
-        )?;
-    }
-    for &(robot, round, wake) in &opts.freezes {
-        add(
-            Injection {
-                robot,
-                round,
-                kind: Kind::Freeze,
-                wake,
-            },
-            &mut out,
-        )?;
-    }
-    let free: Vec<usize> = (0..robots)
-        .filter(|r| !out.iter().any(|i| i.robot == *r))
-        .collect();
-    if opts.kill_random > free.len() {
-        return Err(Error::Input(format!(
-            "--kill-random {}: only {} robots are left to kill",
-            opts.kill_random,
-            free.len()
-        )));
-    }
-    // A partial Fisher-Yates shuffle driven by the run seed.
-    let mut pool = free;
-    for k in 0..opts.kill_random {
-        let draw = rng::derive(opts.seed, 0x6b69_6c6c_0000 + k as u64);
-        let j = k + (draw % (pool.len() - k) as u64) as usize;
-        pool.swap(k, j);
-        let round =
-            1 + (rng::derive(opts.seed, 0x726f_756e_0000 + k as u64) % RANDOM_ROUNDS as u64) as u32;
-        add(
-            Injection {
-                robot: pool[k],
-                round,
-                kind: Kind::Kill,
-                wake: None,
-            },
-            &mut out,
-        )?;
     }
     out.sort_by_key(|i| (i.round, i.robot));
     Ok(out)
@@ -408,11 +327,6 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         )));
     }
     let injections = schedule(opts, robots)?;
-    if let Some(&(r, _)) = opts.slow.iter().find(|s| s.0 >= robots) {
-        return Err(Error::Input(format!(
-            "robot {r} does not exist: the run has {robots} robots"
-        )));
-    }
     if let Some(dir) = &opts.out {
         crate::output::create_dir(dir)?;
     }
@@ -467,7 +381,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         .arg("--max-rounds")
         .arg(opts.max_rounds.to_string())
         .arg("--suspect-ms")
-        .arg(opts.suspect_ms.to_string())
+        .arg(SUSPECT_MS.to_string())
         .arg("--report")
         .arg(&procs.report)
         .arg("--progress")
@@ -535,7 +449,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
             .arg("--world-pid")
             .arg(world_pid.to_string())
             .args(
-                opts.slow
+                slow(opts)
                     .iter()
                     .filter(|s| s.0 == i)
                     .flat_map(|s| ["--slow-ms".to_string(), s.1.to_string()]),
@@ -680,6 +594,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
                 .collect()
         })
         .collect();
+    result.round_end_times_s = report.round_end_times_s.clone();
 
     let go_ms = |k: u32| report.pauses.iter().find(|p| p.round == k).map(|p| p.go_ms);
     let injected: Vec<Value> = injections
@@ -735,7 +650,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         "engine": "distributed",
         "ipc_prefix": prefix,
         "max_rounds": opts.max_rounds,
-        "suspect_ms": opts.suspect_ms,
+        "suspect_ms": SUSPECT_MS,
         "failures_injected": injected,
         "failures_detected": detected,
         "refused_moves": report.refused_moves,
@@ -778,7 +693,6 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         starts: &starts,
         lfp: &contract::lfp_params(&scenario),
         result: &result,
-        round_end_times_s: Some(&report.round_end_times_s),
         extra,
     };
     let summary = record.summary();
@@ -859,57 +773,26 @@ mod tests {
     use super::*;
 
     fn opts() -> RunOptions {
-        RunOptions {
-            scenario: "paper".into(),
-            algorithm: Policy::Repulsive,
-            robots: None,
-            seed: 7,
-            situation: None,
-            kills: vec![],
-            freezes: vec![],
-            kill_random: 0,
-            suspect_ms: 2000,
-            out: None,
-            json: false,
-            max_rounds: 100,
-            slow: vec![],
-        }
-    }
-
-    #[test]
-    fn failure_arguments_parse() {
-        assert_eq!(parse_kill("3@5"), Ok((3, 5)));
-        assert!(parse_kill("3").is_err());
-        assert!(parse_kill("a@5").is_err());
-        assert_eq!(parse_freeze("2@4"), Ok((2, 4, None)));
-        assert_eq!(parse_freeze("2@4:9"), Ok((2, 4, Some(9))));
-        assert!(parse_freeze("2@4:4").is_err());
-        assert!(parse_freeze("2@4:x").is_err());
+        RunOptions::for_experiment("paper".into(), Policy::Repulsive, 13, 7, Situation::One, 0, 100)
     }
 
     #[test]
     fn random_kills_are_reproducible_distinct_and_in_range() {
         let mut o = opts();
         o.kill_random = 5;
-        o.kills = vec![(0, 3)];
+        o.faults = vec![sim::schedule::parse_kill("0@3").unwrap()];
         let a = schedule(&o, 13).unwrap();
         assert_eq!(a, schedule(&o, 13).unwrap());
         assert_eq!(a.len(), 6);
         let robots: BTreeSet<usize> = a.iter().map(|i| i.robot).collect();
         assert_eq!(robots.len(), 6);
-        assert!(a
-            .iter()
-            .all(|i| i.robot < 13 && (1..=RANDOM_ROUNDS).contains(&i.round) || i.robot == 0));
         o.seed = 8;
         assert_ne!(a, schedule(&o, 13).unwrap());
         o.kill_random = 13;
         assert!(schedule(&o, 13).is_err(), "only 12 left");
         let mut o = opts();
-        o.kills = vec![(13, 1)];
-        assert!(schedule(&o, 13).is_err());
-        o.kills = vec![(1, 1)];
-        o.freezes = vec![(1, 2, None)];
-        assert!(schedule(&o, 13).is_err());
+        o.radio.loss = 0.1;
+        assert!(schedule(&o, 13).is_err(), "no radio in this build");
     }
 
     #[test]

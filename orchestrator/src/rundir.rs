@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
-use crate::{output, replay, routes};
+use crate::{figures, output, replay, routes};
 
 /// Names of the files in a run directory.
 pub const SUMMARY: &str = "summary.json";
@@ -174,12 +174,11 @@ pub struct RunRecord<'a> {
     /// Start vertex of each robot, robot `k` at index `k`.
     pub starts: &'a [VertexId],
     pub lfp: &'a LfpParams,
-    /// With its trajectories recorded.
+    /// With its trajectories recorded, and the simulated time at the end
+    /// of each round in `round_end_times_s` (element `k` ends round `k`);
+    /// when that is empty the replay spreads the run's total evenly over
+    /// its rounds and says so.
     pub result: &'a RunResult,
-    /// Simulated time at the end of each round (element `k` ends round `k`),
-    /// when the engine reports it; without it the replay spreads the run's
-    /// total evenly over its rounds and says so.
-    pub round_end_times_s: Option<&'a [f64]>,
     /// More fields for `summary.json`, merged over the common ones (a JSON
     /// object, or `null` for none): `max_rounds`, and from the distributed
     /// engine `failures_detected` and `refused_moves`, which the replay
@@ -188,9 +187,15 @@ pub struct RunRecord<'a> {
 }
 
 impl RunRecord<'_> {
-    /// `summary.json`: [`output::run_summary`], `extra`, and the start vertices.
+    /// `summary.json`: [`output::run_summary`], the protocol's figures
+    /// ([`figures::summary_fields`]), `extra`, and the start vertices.
     pub fn summary(&self) -> Value {
         let mut summary = output::run_summary(self.scenario, self.lfp, self.result);
+        if let Value::Object(protocol) = figures::summary_fields(self.result) {
+            for (k, v) in protocol {
+                summary[k] = v;
+            }
+        }
         if let Value::Object(extra) = &self.extra {
             for (k, v) in extra {
                 summary[k] = v.clone();
@@ -253,15 +258,13 @@ pub fn write_run_dir(dir: &Path, run: &RunRecord) -> Result<Vec<PathBuf>> {
     output::write_text(&path, &WorldFile::new(run.scenario, run.world, run.starts).to_text())?;
     written.push(path);
     let rounds_path = dir.join(ROUNDS);
-    match run.round_end_times_s {
-        Some(times) => {
-            output::write_text(&rounds_path, &rounds_csv(times))?;
-            written.push(rounds_path);
-        }
+    let times = &run.result.round_end_times_s;
+    if times.is_empty() {
         // A stale one from an earlier run in the same directory would lie.
-        None => {
-            let _ = fs::remove_file(&rounds_path);
-        }
+        let _ = fs::remove_file(&rounds_path);
+    } else {
+        output::write_text(&rounds_path, &rounds_csv(times))?;
+        written.push(rounds_path);
     }
     written.push(replay::write(dir)?);
     Ok(written)

@@ -46,7 +46,6 @@ pub struct ScaleOptions {
     pub scenario: Option<String>,
     pub algorithm: Policy,
     pub situation: Option<Situation>,
-    pub suspect_ms: u64,
     pub max_rounds: u32,
     pub out: PathBuf,
     pub progress: bool,
@@ -375,7 +374,6 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
                 seed,
                 scenario.situation,
                 0,
-                opts.suspect_ms,
                 opts.max_rounds,
             );
             let what = format!("run {r} with {n} robots, seed {seed}");
@@ -446,7 +444,6 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         "seed": opts.seed,
         "seed_derivation": "run r with N robots has seed derive(derive(seed, N), r) with gridswarm::rng::derive",
         "situation": opts.situation.map(|s| s.number().to_string()).unwrap_or_else(|| "the scenario's".into()),
-        "suspect_ms": opts.suspect_ms,
         "max_rounds": opts.max_rounds,
         "cores": threads,
         "distributed": "one world-server and one robot-agent process per robot over iceoryx2; round wall time \
@@ -564,7 +561,6 @@ mod tests {
             scenario: None,
             algorithm: Policy::Repulsive,
             situation: None,
-            suspect_ms: 2000,
             max_rounds: 10,
             out: PathBuf::from("x"),
             progress: false,

@@ -1,5 +1,7 @@
-//! `gridswarm simulate`: one run, a short summary or one JSON object on
-//! stdout, and optionally its files (summary, trajectories, route map).
+//! `gridswarm simulate`: one in-process run, with the same failure and
+//! radio flags as `run` ([`crate::faults`]), a short summary or one JSON
+//! object on stdout, and optionally its files (summary, trajectories,
+//! route map, replay).
 
 use std::path::PathBuf;
 
@@ -10,6 +12,7 @@ use serde_json::json;
 
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
+use crate::faults::FaultPlan;
 use crate::rundir::{self, RunRecord};
 use crate::{check, output};
 
@@ -25,6 +28,8 @@ pub struct SimulateOptions {
     pub out: Option<PathBuf>,
     pub json: bool,
     pub max_rounds: u32,
+    /// Faults and radio impairments (grid policies only).
+    pub faults: FaultPlan,
 }
 
 /// Runs once; returns the text for stdout (warnings go to stderr directly).
@@ -37,6 +42,10 @@ pub fn simulate(opts: &SimulateOptions) -> Result<String> {
     if robots == 0 {
         return Err(Error::Input("at least 1 robot is needed".into()));
     }
+    let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
+    // Usage errors before anything is created.
+    opts.faults.configure(&mut cfg, robots)?;
+    opts.faults.apply_params(&mut scenario.params);
     // Before the run, so a bad directory fails at once.
     if let Some(dir) = &opts.out {
         output::create_dir(dir)?;
@@ -47,20 +56,18 @@ pub fn simulate(opts: &SimulateOptions) -> Result<String> {
         eprintln!("{w}");
     }
     let lfp = contract::lfp_params(&scenario);
-    let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
     cfg.max_rounds = opts.max_rounds;
     cfg.record_trajectories = opts.out.is_some();
     cfg.measure_coverage = true;
-    let (result, round_end_times) = Runner::new(&world, lfp).run_with_round_times(&starts, &cfg);
-    let record = RunRecord {
-        scenario: &scenario,
-        world: &world,
-        starts: &starts,
-        lfp: &lfp,
-        result: &result,
-        round_end_times_s: Some(&round_end_times),
-        extra: json!({ "max_rounds": opts.max_rounds }),
-    };
+    let result = Runner::new(&world, lfp).run(&starts, &cfg);
+    let extra = json!({
+        "engine": "in-process",
+        "max_rounds": opts.max_rounds,
+        "radio": cfg.radio,
+        "retries": world.params.retries,
+        "faults": gridswarm::sim::schedule::to_args(&cfg.faults),
+    });
+    let record = RunRecord { scenario: &scenario, world: &world, starts: &starts, lfp: &lfp, result: &result, extra };
     let summary = record.summary();
     let written = match &opts.out {
         Some(dir) => rundir::write_run_dir(dir, &record)?,

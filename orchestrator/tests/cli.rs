@@ -277,3 +277,225 @@ polygon = [[0, 0], [20, 0], [20, 16], [0, 16]]
 circle = { center = [10, 8], radius = \"big\" }
 ";
 const BAD_FIELD: &str = "obstacles[0].circle.radius";
+
+/// `simulate --json` with extra arguments, parsed.
+fn simulate_json(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["simulate", "--json"];
+    all.extend_from_slice(args);
+    let o = gridswarm(&all);
+    assert_ok(&o);
+    serde_json::from_str(&stdout(&o)).expect("one JSON object")
+}
+
+fn num(v: &serde_json::Value, k: &str) -> f64 {
+    v[k].as_f64().unwrap_or_else(|| panic!("{k} missing or not a number in {v}"))
+}
+
+#[test]
+fn simulate_kill_mid_round_is_detected_by_the_robots() {
+    let v = simulate_json(&["--robots", "6", "--seed", "3", "--kill", "2@4+0.3"]);
+    let f = v["failures"].as_array().expect("failures");
+    assert_eq!(f.len(), 1, "{v}");
+    assert_eq!((f[0]["robot"].as_u64(), f[0]["kind"].as_str()), (Some(2), Some("crash")));
+    // A crash 0.3 s into round 4: not at a slot boundary.
+    let at = num(&f[0], "at_s");
+    let base = simulate_json(&["--robots", "6", "--seed", "3", "--max-rounds", "4"]);
+    assert!((at - num(&base, "search_time_s") - 0.3).abs() < 1e-6, "crash at {at} s, round 4 began at {}", base["search_time_s"]);
+    assert!(!f[0]["declared_by"].as_array().unwrap().is_empty(), "{f:?}");
+    assert!(f[0]["detection_delay_s"].as_f64().unwrap() > 0.0);
+    assert!(f[0]["detection_delay_rounds"].as_u64().is_some());
+    assert_eq!(f[0]["unaware"].as_array().map(Vec::len), Some(0));
+    assert_eq!((v["false_suspicions"].as_u64(), v["collisions"].as_u64()), (Some(0), Some(0)));
+    assert!(v["declarations"].as_u64().unwrap() >= 1);
+    assert_eq!(v["ended_by"], "stop");
+    assert_eq!(v["faults"][0], "--kill 2@4+0.3");
+
+    // The terminal says it too, with the delay.
+    let o = gridswarm(&["simulate", "--robots", "6", "--seed", "3", "--kill", "2@4+0.3"]);
+    assert_ok(&o);
+    let line = stdout(&o).lines().find(|l| l.starts_with("failure: robot 2 crash")).map(String::from);
+    assert!(line.as_deref().is_some_and(|l| l.contains("declared after") && l.contains("s simulated")), "{}", stdout(&o));
+}
+
+#[test]
+fn simulate_freeze_and_thaw_rejoins() {
+    let v = simulate_json(&["--robots", "6", "--seed", "3", "--freeze", "1@3:12"]);
+    let f = &v["failures"][0];
+    assert_eq!((f["robot"].as_u64(), f["kind"].as_str()), (Some(1), Some("freeze")), "{v}");
+    assert!(f["thawed_s"].as_f64().unwrap() > f["at_s"].as_f64().unwrap());
+    assert!(f["detected_round"].as_u64().is_some(), "{f}");
+    assert!(v["rejoins"].as_u64().unwrap() >= 1, "a thawed robot heard again rejoins: {v}");
+    assert_eq!(v["false_suspicions"], 0);
+    // Never thawed: declared, and never rejoins.
+    let v = simulate_json(&["--robots", "6", "--seed", "3", "--freeze", "1@3"]);
+    assert!(v["failures"][0]["thawed_s"].is_null() && v["rejoins"] == 0, "{v}");
+}
+
+#[test]
+fn simulate_slow_robot_is_suspected_and_slows_the_clock() {
+    let base = simulate_json(&["--robots", "6", "--seed", "3"]);
+    assert_eq!((base["false_suspicions"].as_u64(), base["declarations"].as_u64()), (Some(0), Some(0)));
+    // 200 ms late misses the 50 ms exchange window: wrongly declared, not a failure.
+    let v = simulate_json(&["--robots", "6", "--seed", "3", "--slow", "1@2+0.1:200"]);
+    assert!(v["false_suspicions"].as_u64().unwrap() > 0, "{v}");
+    assert_eq!(v["failures"].as_array().map(Vec::len), Some(0));
+    // Seconds late from the start: every slot waits for it.
+    let v = simulate_json(&["--robots", "6", "--seed", "3", "--slow", "1@0:5000"]);
+    let per_round = |x: &serde_json::Value| num(x, "search_time_s") / num(x, "rounds");
+    assert!(per_round(&v) > per_round(&base) + 1.0, "{} vs {}", per_round(&v), per_round(&base));
+}
+
+#[test]
+fn simulate_loss_with_retries() {
+    let lossy = simulate_json(&["--robots", "6", "--seed", "3", "--loss", "0.3", "--retries", "0"]);
+    assert!(lossy["lost"].as_u64().unwrap() > 0 && lossy["retransmissions"] == 0, "{lossy}");
+    assert!(lossy["unsure"].as_u64().unwrap() > 0 && lossy["timeouts"].as_u64().unwrap() > 0, "{lossy}");
+    assert_eq!(lossy["collisions"], 0);
+    assert_eq!(lossy["radio"]["loss"], 0.3);
+    // Two retries: three copies of every frame, far fewer stays for want of answers.
+    let r2 = simulate_json(&["--robots", "6", "--seed", "3", "--loss", "0.3", "--retries", "2"]);
+    assert_eq!(num(&r2, "transmissions"), 3.0 * num(&r2, "frames"), "{r2}");
+    assert_eq!(num(&r2, "retransmissions"), 2.0 * num(&r2, "frames"));
+    assert_eq!(r2["retries"], 2);
+    assert!(r2["unsure"].as_u64().unwrap() < lossy["unsure"].as_u64().unwrap(), "{r2}\n{lossy}");
+    // A perfect radio loses nothing and is the scenario's run exactly.
+    let clean = simulate_json(&["--robots", "6", "--seed", "3", "--loss", "0"]);
+    let plain = simulate_json(&["--robots", "6", "--seed", "3"]);
+    assert_eq!(clean["lost"], 0);
+    assert_eq!(clean["search_time_s"], plain["search_time_s"]);
+}
+
+#[test]
+fn ended_by_names_the_real_reason() {
+    let v = simulate_json(&["--robots", "3", "--kill", "0@1", "--kill", "1@1", "--kill", "2@1+0.5"]);
+    assert_eq!((v["ended_by"].as_str(), v["complete"].as_bool()), (Some("no_robots"), Some(false)), "{v}");
+    let o = gridswarm(&["simulate", "--robots", "3", "--kill", "0@1", "--kill", "1@1", "--kill", "2@1+0.5"]);
+    let text = stdout(&o);
+    assert!(text.contains("INCOMPLETE (no_robots:") && !text.contains("round limit"), "{text}");
+    assert_eq!(text.lines().filter(|l| l.starts_with("failure: robot")).count(), 3, "{text}");
+    let o = gridswarm(&["simulate", "--robots", "3", "--max-rounds", "2"]);
+    assert!(stdout(&o).contains("INCOMPLETE (max_rounds: round limit reached) after 2 rounds"), "{}", stdout(&o));
+    let o = gridswarm(&["simulate", "--robots", "3"]);
+    assert!(stdout(&o).contains("complete (stop:"), "{}", stdout(&o));
+    assert_eq!(simulate_json(&["--robots", "3"])["ended_by"], "stop");
+}
+
+#[test]
+fn bad_fault_flags_give_one_line_and_exit_2() {
+    let cases: &[&[&str]] = &[
+        &["simulate", "--robots", "3", "--kill", "3@2"],
+        &["simulate", "--robots", "4", "--kill", "1@2", "--freeze", "1@3"],
+        &["simulate", "--kill", "x@2"],
+        &["simulate", "--kill", "1@2+-1"],
+        &["simulate", "--freeze", "1@4:3"],
+        &["simulate", "--slow", "1@2"],
+        &["simulate", "--loss", "1.5"],
+        &["simulate", "--dup", "-0.1"],
+        &["simulate", "--delay", "abc"],
+        &["simulate", "--retries", "-1"],
+        &["simulate", "--robots", "3", "--kill", "0@1", "--kill-random", "3"],
+        &["simulate", "--algorithm", "lfp", "--kill", "1@2"],
+        &["simulate", "--algorithm", "lfp", "--loss", "0.1"],
+        &["run", "--robots", "3", "--kill", "5@2"],
+        &["run", "--suspect-ms", "100"],
+        &["experiment", "failures", "--robots", "3", "--killed", "3"],
+        &["experiment", "radio", "--loss", "0.1,2"],
+    ];
+    for args in cases {
+        let o = gridswarm(args);
+        let err = assert_clean_error(&o);
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+    }
+    let err = stderr(&gridswarm(&["simulate", "--robots", "3", "--kill", "3@2"]));
+    assert!(err.contains("robot 3 does not exist"), "{err}");
+    let err = stderr(&gridswarm(&["simulate", "--algorithm", "lfp", "--loss", "0.1"]));
+    assert!(err.contains("grid policies"), "{err}");
+}
+
+#[test]
+fn experiment_failures_runs_in_process_and_writes_its_files() {
+    let d = scratch("failures");
+    let o = gridswarm(&["experiment", "failures", "--robots", "6", "--killed", "0-2", "--runs", "30", "--out", path(&d)]);
+    assert_ok(&o);
+    let text = stdout(&o);
+    assert!(text.contains("engine in-process") && text.contains("killed") && text.contains("delay (rounds)"), "{text}");
+    for f in ["failures.csv", "failures-runs.csv", "failures.svg", "report.html"] {
+        assert!(d.join(f).is_file(), "{f} missing");
+    }
+    let csv = fs::read_to_string(d.join("failures.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 3, "{csv}");
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no {name} in {header:?}"));
+    let cell = |row: usize, name: &str| -> f64 { rows[row][col(name)].parse().unwrap_or(f64::NAN) };
+    for (k, row) in rows.iter().enumerate() {
+        assert_eq!(row[0], k.to_string());
+        assert_eq!(cell(k, "runs"), 30.0);
+        assert_eq!(cell(k, "collisions"), 0.0, "{csv}");
+    }
+    assert_eq!(cell(0, "failures_injected"), 0.0);
+    // Every crash falls inside the search (rounds 1-20 of runs that take longer) or not at all.
+    assert!(cell(2, "failures_injected") > 30.0 && cell(2, "failures_injected") <= 60.0, "{csv}");
+    assert!(cell(2, "failures_detected") > 0.0 && cell(2, "mean_detection_delay_s") > 0.0, "{csv}");
+    assert_eq!(cell(1, "mean_false_suspicions"), 0.0, "{csv}");
+    let runs = fs::read_to_string(d.join("failures-runs.csv")).unwrap();
+    assert_eq!(runs.lines().count(), 1 + 90);
+    // Any run is `simulate` with the same seed and --kill-random.
+    let head: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
+    let run: Vec<&str> = runs.lines().find(|l| l.starts_with("2,")).unwrap().split(',').collect();
+    let field = |name: &str| run[head.iter().position(|h| *h == name).unwrap()];
+    let v = simulate_json(&["--robots", "6", "--seed", field("seed"), "--kill-random", "2"]);
+    assert_eq!(v["rounds"].to_string(), field("rounds"));
+    assert_eq!(format!("{:.6}", num(&v, "search_time_s")), field("search_time_s"));
+    assert_eq!(v["failures"].as_array().unwrap().len().to_string(), field("failures_injected"));
+    assert_eq!(v["unsure"].to_string(), field("unsure"));
+    roxmltree::Document::parse(&fs::read_to_string(d.join("failures.svg")).unwrap()).expect("failures.svg is XML");
+    let html = fs::read_to_string(d.join("report.html")).unwrap();
+    assert!(html.contains("Failures: paper scenario, 6 robots") && html.contains("false susp./run"), "report");
+}
+
+#[test]
+fn experiment_radio_writes_its_files_and_table() {
+    let d = scratch("radio");
+    let args = ["experiment", "radio", "--loss", "0,0.2", "--robots", "4", "--retries", "0,1", "--runs", "8", "--out", path(&d)];
+    let o = gridswarm(&args);
+    assert_ok(&o);
+    let text = stdout(&o);
+    assert!(text.contains("coll./10^6 moves") && text.contains("unsure/run"), "{text}");
+    for f in ["radio.csv", "radio-runs.csv", "radio.svg", "report.html"] {
+        assert!(d.join(f).is_file(), "{f} missing");
+    }
+    let csv = fs::read_to_string(d.join("radio.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert_eq!(&header[..3], ["loss", "robots", "retries"]);
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 4, "{csv}");
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let cell = |row: usize, name: &str| -> f64 { rows[row][col(name)].parse().unwrap() };
+    // Rows: (0, R=0), (0, R=1), (0.2, R=0), (0.2, R=1).
+    assert_eq!((cell(0, "mean_lost"), cell(1, "mean_lost")), (0.0, 0.0), "{csv}");
+    assert!(cell(2, "mean_lost") > 0.0 && cell(3, "mean_lost") > 0.0, "{csv}");
+    assert_eq!((cell(0, "mean_retransmissions"), cell(2, "mean_retransmissions")), (0.0, 0.0));
+    assert!(cell(1, "mean_retransmissions") > 0.0, "{csv}");
+    assert_eq!(cell(0, "mean_unsure"), 0.0, "a perfect radio leaves nobody unsure: {csv}");
+    assert!(cell(2, "mean_unsure") > cell(3, "mean_unsure"), "a retry should cut the unsure stays: {csv}");
+    let runs = fs::read_to_string(d.join("radio-runs.csv")).unwrap();
+    assert_eq!(runs.lines().count(), 1 + 32);
+    // Any run is `simulate` with the same seed, loss and retries.
+    let head: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
+    let run: Vec<&str> = runs.lines().find(|l| l.starts_with("0.2,4,1,")).unwrap().split(',').collect();
+    let field = |name: &str| run[head.iter().position(|h| *h == name).unwrap()];
+    let v = simulate_json(&["--robots", "4", "--seed", field("seed"), "--loss", "0.2", "--retries", "1"]);
+    for k in ["rounds", "lost", "retransmissions", "unsure", "collisions"] {
+        assert_eq!(v[k].to_string(), field(k), "{k}");
+    }
+    roxmltree::Document::parse(&fs::read_to_string(d.join("radio.svg")).unwrap()).expect("radio.svg is XML");
+    assert!(fs::read_to_string(d.join("report.html")).unwrap().contains("Radio loss: paper scenario"));
+    // Reproducible.
+    let again = scratch("radio-again");
+    let mut a2 = args;
+    a2[11] = path(&again);
+    assert_ok(&gridswarm(&a2));
+    assert_eq!(csv, fs::read_to_string(again.join("radio.csv")).unwrap());
+}

@@ -59,14 +59,13 @@ fn run_dir(
     let starts = scenario.start_vertices(&world, robots).unwrap();
     let mut cfg = RunConfig::new(policy, seed, situation);
     cfg.max_rounds = 5000;
-    let (result, times) = Runner::new(&world, scenario.lfp).run_with_round_times(&starts, &cfg);
+    let result = Runner::new(&world, scenario.lfp).run(&starts, &cfg);
     let record = RunRecord {
         scenario: &scenario,
         world: &world,
         starts: &starts,
         lfp: &scenario.lfp,
         result: &result,
-        round_end_times_s: Some(&times),
         extra: json!({ "max_rounds": 5000 }),
     };
     let written = rundir::write_run_dir(dir, &record).unwrap();
@@ -102,7 +101,11 @@ fn series_agree_with_the_engine() {
         assert_eq!(s.time_s.len(), rounds + 1);
         assert!(s.time_exact);
         assert_eq!(s.time_s[0], 0.0);
-        assert!((s.time_s[rounds] - result.search_time_s).abs() < 1e-6, "{policy:?}");
+        // The clock is the engine's, slot by slot; the search ends inside
+        // the last slot (at the stop that ends it), or at its end.
+        assert!((s.time_s[rounds] - result.round_end_times_s[rounds - 1]).abs() < 1e-6, "{policy:?}");
+        let t = result.search_time_s;
+        assert!(s.time_s[rounds - 1] <= t + 1e-6 && t <= s.time_s[rounds] + 1e-6, "{policy:?}: {t}");
         assert!(s.time_s.windows(2).all(|w| w[1] >= w[0]));
         assert_eq!(*s.found.last().unwrap() as usize, result.targets_found, "{policy:?}");
         assert!(s.found.windows(2).all(|w| w[1] >= w[0]));
@@ -257,6 +260,20 @@ fn failures_and_refused_moves_are_read_from_the_summary() {
     let data = replay::data(&rec);
     assert_eq!(data["failures"], json!([1, 4]));
     assert_eq!(data["refused_total"], 7);
+}
+
+#[test]
+fn simulated_failures_are_marked_from_their_declaration() {
+    let d = scratch("simulated-failures");
+    let o = gridswarm(&["simulate", "--robots", "6", "--seed", "3", "--kill", "2@4+0.3", "--out", d.to_str().unwrap()]);
+    assert_ok(&o);
+    let s: Value = serde_json::from_str(&fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    let declared = s["failures"][0]["detected_round"].as_u64().expect("the crash is declared") as u32;
+    assert!(s.get("failures_detected").is_none());
+    let rec = Recorded::load(&d).unwrap();
+    assert_eq!(rec.failures.len(), 1);
+    assert_eq!((rec.failures[0].robot, rec.failures[0].round), (2, declared));
+    assert_eq!(rec.refused_total, Some(0));
 }
 
 #[test]

@@ -1,0 +1,160 @@
+//! Runs the jobs of a protocol experiment (`experiment failures`,
+//! `experiment radio`) on the engine asked for: in-process on every core
+//! (rayon over runs, results in job order whatever thread ran a job), or
+//! one distributed run after another through [`crate::run::execute_as`].
+//! Both give the same [`ProtoRun`]s for the same jobs.
+
+use std::collections::BTreeMap;
+
+use gridswarm::grid::VertexId;
+use gridswarm::outcome::RunConfig;
+use gridswarm::policy::Policy;
+use gridswarm::scenario::Scenario;
+use gridswarm::world::World;
+use rayon::prelude::*;
+
+use crate::contract::{self, Runner};
+use crate::error::Result;
+use crate::experiment::progress_bar;
+use crate::faults::{FaultPlan, RunBase};
+use crate::run;
+use crate::tally::ProtoRun;
+
+/// Which engine runs an experiment's runs.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Engine {
+    /// Every robot a function call, every run on a rayon pool.
+    #[default]
+    InProcess,
+    /// One world-server and one robot-agent process per robot (`gridswarm run`).
+    Distributed,
+}
+
+impl Engine {
+    /// The name `--engine` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Engine::InProcess => "in-process",
+            Engine::Distributed => "distributed",
+        }
+    }
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            Engine::InProcess => "in-process: every robot a function call, runs in parallel on every core",
+            Engine::Distributed => "distributed: one world-server and one robot-agent process per robot over iceoryx2",
+        }
+    }
+}
+
+/// What every run of an experiment shares.
+pub struct Setting<'a> {
+    /// The name or path the user gave (distributed runs load it again).
+    pub scenario_arg: &'a str,
+    /// Loaded, with the situation asked for.
+    pub scenario: &'a Scenario,
+    pub algorithm: Policy,
+    pub max_rounds: u32,
+}
+
+/// One run: its robot count, seed, faults and radio.
+#[derive(Clone, Debug)]
+pub struct Job {
+    pub robots: usize,
+    pub seed: u64,
+    pub plan: FaultPlan,
+    /// Names the run in errors and warnings.
+    pub what: String,
+}
+
+/// Runs every job; results in job order. Checks every job's plan first,
+/// so a bad one fails before any run.
+pub fn execute(engine: Engine, setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<ProtoRun>> {
+    for j in jobs {
+        j.plan.check(setting.algorithm, j.robots)?;
+    }
+    match engine {
+        Engine::InProcess => in_process(setting, jobs, progress),
+        Engine::Distributed => distributed(setting, jobs, progress),
+    }
+}
+
+/// A world per retries value (it is a world parameter) and start vertices
+/// per (world, robot count), built once before the runs.
+struct Worlds {
+    worlds: BTreeMap<Option<u32>, World>,
+    starts: BTreeMap<(Option<u32>, usize), Vec<VertexId>>,
+}
+
+impl Worlds {
+    fn build(scenario: &Scenario, jobs: &[Job]) -> Result<Self> {
+        let mut w = Worlds { worlds: BTreeMap::new(), starts: BTreeMap::new() };
+        for j in jobs {
+            let key = j.plan.retries;
+            let world = w.worlds.entry(key).or_insert_with(|| {
+                let mut s = scenario.clone();
+                j.plan.apply_params(&mut s.params);
+                s.world()
+            });
+            if let std::collections::btree_map::Entry::Vacant(e) = w.starts.entry((key, j.robots)) {
+                e.insert(contract::start_vertices(scenario, world, j.robots)?);
+            }
+        }
+        Ok(w)
+    }
+}
+
+fn in_process(setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<ProtoRun>> {
+    let worlds = Worlds::build(setting.scenario, jobs)?;
+    let lfp = contract::lfp_params(setting.scenario);
+    let mut cfgs = Vec::with_capacity(jobs.len());
+    for j in jobs {
+        let mut cfg = RunConfig::new(setting.algorithm, j.seed, setting.scenario.situation);
+        cfg.max_rounds = setting.max_rounds;
+        // Numbers only: no poses, no raster pass.
+        cfg.record_trajectories = false;
+        cfg.measure_coverage = false;
+        j.plan.configure(&mut cfg, j.robots)?;
+        cfgs.push(cfg);
+    }
+    let bar = progress_bar(jobs.len() as u64, progress);
+    let runs = jobs
+        .par_iter()
+        .zip(cfgs.par_iter())
+        .map(|(j, cfg)| {
+            let key = j.plan.retries;
+            let runner = Runner::new(&worlds.worlds[&key], lfp);
+            let r = ProtoRun::of(&runner.run(&worlds.starts[&(key, j.robots)], cfg));
+            bar.inc(1);
+            r
+        })
+        .collect();
+    bar.finish_and_clear();
+    Ok(runs)
+}
+
+fn distributed(setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<ProtoRun>> {
+    let bar = progress_bar(jobs.len() as u64, progress);
+    let mut warnings = Vec::new();
+    let mut runs = Vec::with_capacity(jobs.len());
+    for j in jobs {
+        let base = RunBase {
+            scenario: setting.scenario_arg.to_string(),
+            algorithm: setting.algorithm,
+            robots: Some(j.robots),
+            seed: j.seed,
+            situation: Some(setting.scenario.situation),
+            max_rounds: setting.max_rounds,
+            out: None,
+            json: true,
+        };
+        let v = run::execute_as(&j.plan.run_options(base), &j.what, &mut warnings).inspect_err(|_| bar.finish_and_clear())?;
+        runs.push(ProtoRun::from_summary(j.seed, &v));
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    for w in &warnings {
+        eprintln!("{w}");
+    }
+    Ok(runs)
+}
