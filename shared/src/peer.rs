@@ -367,15 +367,15 @@ impl<'g> Peer<'g> {
             return;
         }
         let me = self.id();
-        let round = self.round;
         match f {
             Frame::Map { at, halted, stop, map, .. } => {
                 let robot = self.robot.as_mut().expect("checked");
+                let was_failed = robot.map().is_failed(from);
                 if !robot.receive_map(from, *at, map, *halted) {
                     return;
                 }
-                if robot.map().is_failed(from) {
-                    robot.revive(from, round);
+                if was_failed {
+                    // Heard, so alive: the core has revived it already.
                     out.notes.push(Note::Rejoined { robot: from });
                 }
                 let h = self.heard_mut(from, *at);
@@ -389,8 +389,8 @@ impl<'g> Peer<'g> {
             Frame::Choice { at, next, accounted, .. } => {
                 let robot = self.robot.as_mut().expect("checked");
                 if robot.map().is_failed(from) {
-                    // A choice is a sign of life: it must be avoided like any other.
-                    robot.revive(from, round);
+                    // A choice is a sign of life: it must be avoided like any
+                    // other (the core revives it on hearing it).
                     out.notes.push(Note::Rejoined { robot: from });
                 }
                 if !robot.receive_choice(from, *at, *next) {
