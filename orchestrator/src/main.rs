@@ -38,7 +38,7 @@ enum Command {
     /// One search in-process: a summary, or one JSON object; with --out, its files.
     /// Takes the same failure and radio flags as `run`.
     Simulate {
-        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// repulsive, sequential, ru, lfp or escape.
@@ -76,7 +76,7 @@ enum Command {
     Experiment {
         #[command(subcommand)]
         kind: Option<ExperimentKind>,
-        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// Comma-separated algorithms.
@@ -113,7 +113,7 @@ enum Command {
     /// One search with one process per robot (world-server + robot-agents
     /// over iceoryx2), with failure injection; the same files as `simulate`.
     Run {
-        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// repulsive, sequential, ru or escape (grid policies only).
@@ -153,7 +153,7 @@ enum ExperimentKind {
     /// Writes failures.csv, failures-runs.csv, failures.svg and report.html
     /// in --out and prints the table.
     Failures {
-        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// repulsive, sequential, ru or escape (grid policies only).
@@ -187,7 +187,7 @@ enum ExperimentKind {
     /// Writes radio.csv, radio-runs.csv, radio.svg and report.html in --out
     /// and prints the table.
     Radio {
-        /// Built-in scenario (paper, open, cave, large) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// repulsive, sequential, ru or escape (grid policies only).
