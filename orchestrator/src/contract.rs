@@ -57,6 +57,8 @@ impl<'w> Runner<'w> {
 
     /// [`Runner::run`], also returning the simulated time at the end of every round.
     pub fn run_with_round_times(&self, starts: &[VertexId], cfg: &RunConfig) -> (RunResult, Vec<f64>) {
-        gridswarm::engine::run_with_round_times(self.world, starts, cfg, &self.lfp)
+        let mut r = self.run(starts, cfg);
+        let times = std::mem::take(&mut r.round_end_times_s);
+        (r, times)
     }
 }

@@ -76,7 +76,6 @@ pub struct FailuresOptions {
     pub runs: u32,
     pub seed: u64,
     pub situation: Option<Situation>,
-    pub suspect_ms: u64,
     pub max_rounds: u32,
     pub out: PathBuf,
     pub progress: bool,
@@ -389,7 +388,6 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
                 seed,
                 scenario.situation,
                 k,
-                opts.suspect_ms,
                 opts.max_rounds,
             );
             let what = format!("run {r} with {k} killed, seed {seed}");
@@ -431,7 +429,6 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
         "seed": opts.seed,
         "seed_derivation": "run r with k killed has seed derive(derive(seed, k), r) with gridswarm::rng::derive; \
             its victims and kill rounds (1..=20) are drawn from that seed as by `run --kill-random k`",
-        "suspect_ms": opts.suspect_ms,
         "max_rounds": opts.max_rounds,
         "engine": "distributed: one world-server and one robot-agent process per robot over iceoryx2",
         "statistics": "search time, rounds over completed runs (std n-1); collisions, refused moves, round wall \

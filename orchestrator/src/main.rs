@@ -119,15 +119,27 @@ enum Command {
         robots: Option<u32>,
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// SIGKILL robot ROBOT at the start of round ROUND (repeatable).
-        #[arg(long, value_name = "ROBOT@ROUND", value_parser = gridswarm_orchestrator::run::parse_kill)]
-        kill: Vec<(usize, u32)>,
-        /// SIGSTOP robot ROBOT at the start of round ROUND, SIGCONT at WAKE (repeatable).
-        #[arg(long, value_name = "ROBOT@ROUND[:WAKE]", value_parser = gridswarm_orchestrator::run::parse_freeze)]
-        freeze: Vec<(usize, u32, Option<u32>)>,
-        /// SIGKILL K distinct robots at rounds 1..=20, drawn from the seed.
+        /// Robot ROBOT crashes (SIGKILL) at ROUND[+SECONDS] (repeatable).
+        #[arg(long, value_name = "ROBOT@T", value_parser = gridswarm::sim::schedule::parse_kill)]
+        kill: Vec<gridswarm::sim::Fault>,
+        /// Robot ROBOT freezes (SIGSTOP) at T, and thaws (SIGCONT) at T2 if given (repeatable).
+        #[arg(long, value_name = "ROBOT@T[:T2]", value_parser = parse_freeze)]
+        freeze: Vec<Freeze>,
+        /// Crash K distinct robots at times drawn from the seed.
         #[arg(long, value_name = "K", default_value_t = 0)]
         kill_random: usize,
+        /// Probability that one transmission is lost on one link.
+        #[arg(long, default_value_t = 0.0)]
+        loss: f64,
+        /// Retransmissions of every frame [default: the scenario's params.retries].
+        #[arg(long)]
+        retries: Option<u32>,
+        /// Extra radio latency MS, and jitter up to J ms.
+        #[arg(long, value_name = "MS[:J]", value_parser = gridswarm::sim::schedule::parse_delay)]
+        delay: Option<(u64, u64)>,
+        /// Probability that a delivery arrives twice.
+        #[arg(long, default_value_t = 0.0)]
+        dup: f64,
         /// Write summary.json, trajectories.jsonl, routes.svg (and the replay files) here.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -136,9 +148,6 @@ enum Command {
         json: bool,
         #[command(flatten)]
         distributed: Distributed,
-        /// Testing: robot ROBOT takes MS milliseconds over each round's sensing.
-        #[arg(long, hide = true, value_name = "ROBOT@MS", value_parser = gridswarm_orchestrator::run::parse_kill)]
-        slow: Vec<(usize, u32)>,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     Check {
@@ -219,6 +228,14 @@ fn emit(text: &str) {
     let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
 }
 
+/// A freeze and its thaw, as one `--freeze` gives them.
+#[derive(Clone, Debug)]
+struct Freeze(Vec<gridswarm::sim::Fault>);
+
+fn parse_freeze(s: &str) -> Result<Freeze, String> {
+    gridswarm::sim::schedule::parse_freeze(s).map(Freeze)
+}
+
 fn situation(n: Option<u8>) -> Option<Situation> {
     n.and_then(Situation::from_number)
 }
@@ -229,9 +246,6 @@ struct Distributed {
     /// 1: the number of targets is known; 2: it is not [default: the scenario's].
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
     situation: Option<u8>,
-    /// A robot silent this long, with nothing it waits for missing, is declared failed.
-    #[arg(long, value_name = "MS", default_value_t = 2000, value_parser = clap::value_parser!(u64).range(1..))]
-    suspect_ms: u64,
     /// A run not stopped after this many rounds ends incomplete.
     #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
     max_rounds: u32,
@@ -258,7 +272,6 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 runs,
                 seed,
                 situation: situation(d.situation),
-                suspect_ms: d.suspect_ms,
                 max_rounds: d.max_rounds,
                 out,
                 progress,
@@ -273,7 +286,6 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 scenario,
                 algorithm,
                 situation: situation(d.situation),
-                suspect_ms: d.suspect_ms,
                 max_rounds: d.max_rounds,
                 out,
                 progress,
@@ -340,25 +352,28 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             kill,
             freeze,
             kill_random,
+            loss,
+            retries,
+            delay,
+            dup,
             distributed: d,
             out,
             json,
-            slow,
         } => {
+            let (delay, jitter) = delay.unwrap_or((0, 0));
             let opts = gridswarm_orchestrator::run::RunOptions {
                 scenario,
                 algorithm,
                 robots: robots.map(|r| r as usize),
                 seed,
                 situation: situation(d.situation),
-                kills: kill,
-                freezes: freeze,
+                max_rounds: d.max_rounds,
+                radio: gridswarm::sim::Radio { loss, delay, jitter, dup },
+                retries,
+                faults: kill.into_iter().chain(freeze.into_iter().flat_map(|f| f.0)).collect(),
                 kill_random,
-                suspect_ms: d.suspect_ms,
                 out,
                 json,
-                max_rounds: d.max_rounds,
-                slow,
             };
             emit(&gridswarm_orchestrator::run::run(&opts)?);
         }
