@@ -11,6 +11,10 @@
 //! if the world's process is gone (checked whenever the world is quiet for
 //! `--world-timeout-ms`) it exits 3. Errors: one line
 //! `robot-agent K: error: ...`, exit status 1.
+//!
+//! Testing hook: with `GRIDSWARM_AGENT_HANG=R@K` in its environment, robot
+//! R stops itself (SIGSTOP) on the readings of slot K, before answering:
+//! a live process that has gone silent, which no fault schedule makes.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -94,6 +98,8 @@ impl Ports {
 /// One robot: its protocol state and what it checks the world's words against.
 struct Agent<'g> {
     peer: Peer<'g>,
+    /// The slot on whose readings to stop itself (testing hook).
+    hang_at: Option<u32>,
     limits: WireLimits,
     frame_limits: Limits,
     out: Output<Frame>,
@@ -111,6 +117,13 @@ impl Agent<'_> {
     }
 
     fn wake(&mut self, w: Wake) -> AgentOutput {
+        if w.tick.as_ref().zip(self.hang_at).is_some_and(|(t, k)| t.round >= k) {
+            self.hang_at = None;
+            // SAFETY: raise(2) on this process.
+            unsafe {
+                libc::raise(libc::SIGSTOP);
+            }
+        }
         let mut frames = Vec::with_capacity(w.frames.len());
         let mut malformed = 0;
         for f in &w.frames {
@@ -138,6 +151,14 @@ impl Agent<'_> {
     }
 }
 
+/// `GRIDSWARM_AGENT_HANG=R@K`: the slot at which robot R stops itself.
+fn hang_at(robot: usize) -> Option<u32> {
+    let v = std::env::var("GRIDSWARM_AGENT_HANG").ok()?;
+    let (r, k) = v.split_once('@')?;
+    (r.trim().parse::<usize>().ok()? == robot).then_some(())?;
+    k.trim().parse().ok()
+}
+
 fn read_setup(path: &PathBuf) -> Result<RobotSetup, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
     serde_json::from_str(&text).map_err(|e| format!("`{}`: {e}", path.display()))
@@ -152,6 +173,7 @@ fn run(args: &Args, setup: &RobotSetup) -> Result<Exit, String> {
     let ports = Ports::open(&node, robot)?;
     let mut agent = Agent {
         peer: Peer::new(&grid, setup.peer_config()),
+        hang_at: hang_at(robot),
         limits: WireLimits::for_robot(grid.len(), setup.targets_total),
         frame_limits: Limits::for_robot(grid.len(), setup.targets_total),
         out: Output::default(),

@@ -11,7 +11,7 @@ use std::process::Child;
 use std::time::{Duration, Instant};
 
 use gridswarm::ipc;
-use gridswarm::sim::FaultKind;
+use gridswarm::sim::{Fault, FaultKind};
 
 use crate::launch;
 
@@ -37,5 +37,32 @@ pub fn apply(kind: FaultKind, child: &mut Child) -> bool {
         }
         FaultKind::Thaw => launch::signal(pid, libc::SIGCONT),
         FaultKind::Slow(_) => true,
+    }
+}
+
+/// Robots whose last applied freeze was not followed by an applied thaw.
+pub fn still_frozen(faults: &[Fault], applied: &[bool]) -> Vec<usize> {
+    let mut frozen: Vec<usize> = Vec::new();
+    for (f, _) in faults.iter().zip(applied).filter(|(_, &a)| a) {
+        match f.kind {
+            FaultKind::Freeze => frozen.push(f.robot),
+            FaultKind::Thaw => frozen.retain(|&r| r != f.robot),
+            _ => {}
+        }
+    }
+    frozen
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gridswarm::sim::schedule::parse_freeze;
+
+    #[test]
+    fn frozen_until_thawed() {
+        let mut f = parse_freeze("2@3:6").unwrap();
+        f.extend(parse_freeze("4@1").unwrap());
+        assert_eq!(still_frozen(&f, &[true, true, true]), vec![4]);
+        assert_eq!(still_frozen(&f, &[true, false, false]), vec![2]);
     }
 }

@@ -219,6 +219,10 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let mut procs = Processes::new(&prefix, root);
     let followed = follow(&mut procs, &files, &plan, &world_bin, &agent_bin, tx, &rx)?;
     let report = read_report(&files)?;
+    // A robot still frozen cannot read `End`.
+    for r in inject::still_frozen(&plan.cfg.faults, &followed.applied) {
+        let _ = procs.agents[r].kill();
+    }
     let killed_at_end = launch::reap_within(&mut procs.agents, AGENT_GRACE);
     let statuses: Vec<Option<i32>> =
         procs.agents.iter_mut().map(|c| c.try_wait().ok().flatten().and_then(|s| s.code())).collect();
