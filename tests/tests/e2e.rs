@@ -288,6 +288,41 @@ fn a_world_server_crash_ends_the_run_with_one_line() {
 }
 
 #[test]
+fn an_agent_that_dies_unscheduled_is_found_dead_and_the_run_goes_on() {
+    let _s = serial();
+    let child = gridswarm()
+        .args(["run", "--json", "--robots", "13", "--seed", "7"])
+        .env("GRIDSWARM_AGENT_HANG", "2@2")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pid = child.id();
+    let mut hung = 0;
+    assert!(
+        wait_until(Duration::from_secs(20), || {
+            hung = children(pid)
+                .into_iter()
+                .find(|&p| arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with("robot-2.json")) && stopped(p))
+                .unwrap_or(0);
+            hung != 0
+        }),
+        "robot 2 did not stop itself"
+    );
+    // The world waits for its answer; its process vanishes instead.
+    signal(hung, libc::SIGKILL);
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_no_leftovers(v["ipc_prefix"].as_str().unwrap());
+    assert_eq!(v["died"], serde_json::json!([2]));
+    let f = &v["protocol"]["failures"][0];
+    assert_eq!((f["robot"].as_u64(), f["kind"].as_str(), f["round"].as_u64()), (Some(2), Some("died"), Some(2)), "{f}");
+    assert_eq!(num(&v["collisions"]), 0);
+    assert!(text(&out.stderr).contains("robot-agent(s) [2] did not end cleanly"), "{}", text(&out.stderr));
+}
+
+#[test]
 fn sigint_and_sigterm_end_every_child() {
     let _s = serial();
     for (sig, name) in [(libc::SIGINT, "SIGINT"), (libc::SIGTERM, "SIGTERM")] {

@@ -91,7 +91,10 @@ fn a_small_failures_experiment() {
         assert_eq!(num(&h, r, "mean_collisions"), 0.0);
         assert!(num(&h, r, "mean_search_time_s") > 0.0);
         assert!(num(&h, r, "mean_round_wall_p50_ms") > 0.0);
-        assert_eq!(num(&h, r, "failures_detected"), num(&h, r, "failures_injected"), "every kill detected");
+        // Robots declare a dead robot only if one of them expected to hear
+        // it again (the world no longer tells): some kills go undeclared.
+        assert!(num(&h, r, "failures_detected") <= num(&h, r, "failures_injected"));
+        assert_eq!(num(&h, r, "failures_injected"), k as f64 * 2.0, "one kill per run, each applied");
     }
     assert_eq!(cell(&h, &rows[0], "mean_detection_delay_ms"), "", "nothing killed, no delay");
     if num(&h, &rows[1], "failures_injected") > 0.0 {
