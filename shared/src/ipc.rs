@@ -311,9 +311,16 @@ pub fn list_nodes(config: &Config) -> Result<Vec<NodeInfo>, String> {
 /// state. An entry that cannot be read for any other reason (`EMFILE`
 /// under a low descriptor limit, a permission) means alive.
 pub fn pid_alive(pid: u32) -> bool {
+    pid_liveness(pid).unwrap_or(true)
+}
+
+/// What `/proc` says about process `pid`: `Some(true)` running, `Some(false)`
+/// gone or a zombie, `None` when its entry cannot be read (it cannot tell).
+pub fn pid_liveness(pid: u32) -> Option<bool> {
     match fs::read_to_string(format!("/proc/{pid}/stat")) {
-        Ok(stat) => !stat_state(&stat).is_some_and(|c| matches!(c, 'Z' | 'X' | 'x')),
-        Err(e) => !matches!(e.raw_os_error(), Some(libc::ENOENT) | Some(libc::ESRCH)),
+        Ok(stat) => Some(!stat_state(&stat).is_some_and(|c| matches!(c, 'Z' | 'X' | 'x'))),
+        Err(e) if matches!(e.raw_os_error(), Some(libc::ENOENT) | Some(libc::ESRCH)) => Some(false),
+        Err(_) => None,
     }
 }
 
@@ -553,6 +560,9 @@ pub struct RunReport {
     pub died: Vec<usize>,
     /// Wire messages the world dropped (stale or malformed chunks).
     pub dropped: u64,
+    /// Times the world checked whether robots it waited on still exist.
+    #[serde(default)]
+    pub liveness_checks: u64,
 }
 
 #[cfg(test)]

@@ -119,6 +119,7 @@ pub fn extra(prefix: &str, opts: &RunOptions, plan: &Plan, report: &RunReport, f
         "messages_per_robot_round": per_robot_round(r.protocol.frames, r),
         "wakeups_per_robot_round": per_robot_round(r.protocol.wakes, r),
         "died": report.died,
+        "liveness_checks": report.liveness_checks,
         "ended_by": r.protocol.ended_by,
     })
 }
