@@ -98,6 +98,45 @@ pub struct AgentOutput {
     pub notes: Vec<Note>,
 }
 
+/// A [`ToAgent::Wake`] to encode, borrowing the frames' bytes: the world
+/// encodes every wake-up from frames it shares, without copying them first.
+/// Encodes to exactly the bytes of the owned message.
+#[derive(Serialize)]
+enum ToAgentRef<'a> {
+    Wake(&'a WakeRef<'a>),
+}
+
+#[derive(Serialize)]
+pub struct WakeRef<'a> {
+    pub seq: u64,
+    pub now: Time,
+    pub tick: Option<&'a Tick>,
+    pub frames: Vec<WireFrameRef<'a>>,
+}
+
+#[derive(Serialize)]
+pub struct WireFrameRef<'a> {
+    pub from: RobotId,
+    pub at: Time,
+    pub bytes: ByteSlice<'a>,
+}
+
+/// Borrowed bytes, serialized as [`Bytes`] is.
+pub struct ByteSlice<'a>(pub &'a [u8]);
+
+impl Serialize for ByteSlice<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_bytes(self.0)
+    }
+}
+
+/// Encodes a wake-up into `out` (cleared first), reusing its allocation.
+pub fn encode_wake_into(w: &WakeRef, out: &mut Vec<u8>) {
+    let mut buf = std::mem::take(out);
+    buf.clear();
+    *out = postcard::to_extend(&ToAgentRef::Wake(w), buf).expect("a message always serializes");
+}
+
 /// Agent to world.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ToWorld {
@@ -349,6 +388,20 @@ mod tests {
         for m in [output(), ToWorld::Hello { robot: 12, pid: 77 }] {
             assert_eq!(decode_to_world(&encode_to_world(&m), &L), Ok(m));
         }
+    }
+
+    #[test]
+    fn a_borrowed_wake_encodes_as_the_owned_one() {
+        let ToAgent::Wake(w) = wake() else { unreachable!() };
+        let r = WakeRef {
+            seq: w.seq,
+            now: w.now,
+            tick: w.tick.as_ref(),
+            frames: w.frames.iter().map(|f| WireFrameRef { from: f.from, at: f.at, bytes: ByteSlice(&f.bytes.0) }).collect(),
+        };
+        let mut out = vec![1, 2, 3];
+        encode_wake_into(&r, &mut out);
+        assert_eq!(out, encode_to_agent(&ToAgent::Wake(w)));
     }
 
     #[test]

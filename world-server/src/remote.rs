@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 
 use gridswarm::ipc;
 use gridswarm::sim::{Delivery, Fault, Output, Robots, Time, Transmit, WakeCall};
-use gridswarm::wire::{self, AgentOutput, Assembler, Bytes, ToAgent, ToWorld, Wake, WireFrame, WireLimits};
+use gridswarm::wire::{self, AgentOutput, Assembler, ByteSlice, ToAgent, ToWorld, WakeRef, WireFrameRef, WireLimits};
 use iceoryx2::config::Config;
 
 use crate::link::{self, Ports};
@@ -46,6 +46,8 @@ pub struct Remote<'a> {
     asm: Vec<Assembler>,
     seq: u64,
     buf: Vec<u8>,
+    /// The last wake-up encoded (its allocation reused).
+    encoded: Vec<u8>,
     woke: Vec<usize>,
     /// Why the run cannot go on; every later wake-up answers `None`.
     pub failed: Option<String>,
@@ -73,6 +75,7 @@ impl<'a> Remote<'a> {
             asm: (0..n).map(|_| Assembler::new(ipc::OUTBOX_CHUNKS * ipc::CHUNK_BYTES)).collect(),
             seq: 0,
             buf: Vec::with_capacity(ipc::CHUNK_BYTES),
+            encoded: Vec::new(),
             woke: Vec::new(),
             failed: None,
             round_wall_ms: Vec::new(),
@@ -156,17 +159,14 @@ impl<'a> Remote<'a> {
     }
 
     fn publish(&mut self, calls: &[WakeCall<Rc<[u8]>>]) -> Result<(), String> {
+        let mut bytes = std::mem::take(&mut self.encoded);
         for c in calls {
-            let wake = Wake {
-                seq: self.seq,
-                now: c.now,
-                tick: c.tick.clone(),
-                frames: c.frames.iter().map(frame).collect(),
-            };
-            let bytes = wire::encode_to_agent(&ToAgent::Wake(wake));
+            let wake = WakeRef { seq: self.seq, now: c.now, tick: c.tick.as_ref(), frames: c.frames.iter().map(frame).collect() };
+            wire::encode_wake_into(&wake, &mut bytes);
             self.ports.post(c.robot, self.seq, &bytes)?;
             self.ports.notify(c.robot);
         }
+        self.encoded = bytes;
         Ok(())
     }
 
@@ -243,8 +243,8 @@ impl<'a> Remote<'a> {
     }
 }
 
-fn frame(d: &Delivery<Rc<[u8]>>) -> WireFrame {
-    WireFrame { from: d.from, at: d.at, bytes: Bytes(d.payload.to_vec()) }
+fn frame(d: &Delivery<Rc<[u8]>>) -> WireFrameRef<'_> {
+    WireFrameRef { from: d.from, at: d.at, bytes: ByteSlice(&d.payload) }
 }
 
 fn output(o: AgentOutput) -> Output<Rc<[u8]>> {
