@@ -600,6 +600,34 @@ mod tests {
         assert_eq!(stat_state("garbage"), None);
     }
 
+    /// With no descriptor left, `/proc` cannot be read: that is not death.
+    /// Runs itself again as a child process, so that exhausting the
+    /// descriptors cannot disturb the other tests.
+    #[test]
+    fn an_unreadable_proc_entry_is_not_death() {
+        const CHILD: &str = "GRIDSWARM_TEST_EMFILE_CHILD";
+        if std::env::var_os(CHILD).is_some() {
+            let mut held = Vec::new();
+            while let Ok(f) = fs::File::open("/dev/null") {
+                held.push(f);
+                assert!(held.len() < 1 << 20, "no descriptor limit to reach");
+            }
+            let me = std::process::id();
+            let (liveness, alive) = (pid_liveness(me), pid_alive(me));
+            drop(held);
+            assert_eq!(liveness, None, "EMFILE: /proc cannot tell");
+            assert!(alive, "and that is not death");
+            return;
+        }
+        let out = std::process::Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", "ipc::tests::an_unreadable_proc_entry_is_not_death", "--test-threads=1"])
+            .env(CHILD, "1")
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success() && text.contains("1 passed"), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    }
+
     #[test]
     fn cleanup_removes_only_its_run() {
         let dir = std::env::temp_dir().join(format!("gs-ipc-test-{}", std::process::id()));
