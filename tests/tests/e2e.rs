@@ -323,6 +323,37 @@ fn an_agent_that_dies_unscheduled_is_found_dead_and_the_run_goes_on() {
 }
 
 #[test]
+fn a_live_robot_silent_too_long_ends_the_run_naming_it() {
+    let _s = serial();
+    // The world-server with a 1 s patience, through a wrapper the
+    // orchestrator finds in GRIDSWARM_BIN_DIR.
+    let bin = scratch("silence-bin");
+    let real = bin_dir();
+    std::os::unix::fs::symlink(real.join("robot-agent"), bin.join("robot-agent")).unwrap();
+    let script = format!("#!/bin/sh\nexec {} --silence-s 1 \"$@\"\n", real.join("world-server").display());
+    fs::write(bin.join("world-server"), script).unwrap();
+    fs::set_permissions(bin.join("world-server"), std::os::unix::fs::PermissionsExt::from_mode(0o755)).unwrap();
+    let child = std::process::Command::new(real.join("gridswarm"))
+        .args(["run", "--robots", "5", "--seed", "3"])
+        .env("GRIDSWARM_BIN_DIR", &*bin)
+        .env("GRIDSWARM_AGENT_HANG", "2@2")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Every prefix of this orchestrator's runs starts so.
+    let prefixes = format!("gs{}x", child.id());
+    let out = child.wait_with_output().unwrap();
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    let (head, why) = err.trim_end().split_once(": robot 2 (pid ").unwrap_or_else(|| panic!("{err}"));
+    assert_eq!(head, "error: world-server failed (exit status 1) in round 2");
+    assert!(why.ends_with("is alive but has not answered for 1 s"), "{err}");
+    assert_no_leftovers(&prefixes);
+}
+
+#[test]
 fn sigint_and_sigterm_end_every_child() {
     let _s = serial();
     for (sig, name) in [(libc::SIGINT, "SIGINT"), (libc::SIGTERM, "SIGTERM")] {

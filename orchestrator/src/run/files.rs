@@ -34,6 +34,10 @@ impl RunFiles {
         self.dir.join("report.json")
     }
 
+    pub fn world_log(&self) -> PathBuf {
+        self.dir.join("world.log")
+    }
+
     pub fn agent_log(&self) -> PathBuf {
         self.dir.join("agents.log")
     }

@@ -238,6 +238,9 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     if !leftovers.is_empty() {
         warn(format!("warning: {} file(s) of run {prefix} could not be removed", leftovers.len()));
     }
+    for line in procs.world_said() {
+        warn(format!("world-server: {line}"));
+    }
     if let Some(w) = summary::agent_warning(&plan.cfg, &followed.applied, &statuses, &files.agent_log()) {
         warn(w);
     }
@@ -344,7 +347,10 @@ fn world_died(procs: &mut Processes, round: Option<u32>) -> Error {
     procs.abort();
     launch::default_signals();
     let verb = if how.starts_with("signal") { "died" } else { "failed" };
-    Error::Run(format!("world-server {verb} ({how}) {when}"))
+    // Its own one-line reason, when it gave one.
+    let said = procs.world_said();
+    let why = said.iter().rev().find_map(|l| l.strip_prefix("error: ")).map(|r| format!(": {r}")).unwrap_or_default();
+    Error::Run(format!("world-server {verb} ({how}) {when}{why}"))
 }
 
 fn interrupted(procs: &mut Processes, sig: i32) -> Error {

@@ -24,19 +24,25 @@ pub struct Processes {
     pub agents: Vec<Child>,
     prefix: String,
     pub root: PathBuf,
+    /// Where the world-server's stderr goes.
+    world_log: Option<PathBuf>,
 }
 
 impl Processes {
     pub fn new(prefix: &str, root: PathBuf) -> Self {
-        Processes { world: None, world_in: None, agents: Vec::new(), prefix: prefix.to_string(), root }
+        Processes { world: None, world_in: None, agents: Vec::new(), prefix: prefix.to_string(), root, world_log: None }
     }
 
     pub fn world_pid(&self) -> u32 {
         self.world.as_ref().map_or(0, Child::id)
     }
 
-    /// Starts the world-server; its stdout lines go to `tx`.
+    /// Starts the world-server; its stdout lines go to `tx`, its stderr
+    /// to the run's world log ([`Processes::world_said`]).
     pub fn start_world(&mut self, bin: &Path, files: &RunFiles, tx: Sender<Event>) -> Result<()> {
+        let log_path = files.world_log();
+        let log = fs::File::create(&log_path).map_err(Error::write(&log_path))?;
+        self.world_log = Some(log_path);
         let mut cmd = Command::new(bin);
         cmd.arg("--prefix")
             .arg(&self.prefix)
@@ -47,7 +53,7 @@ impl Processes {
             .arg("--progress")
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
-            .stderr(Stdio::inherit());
+            .stderr(log);
         launch::guard(&mut cmd);
         let mut child =
             cmd.spawn().map_err(|e| Error::Run(format!("cannot start {}: {e}", bin.display())))?;
@@ -80,6 +86,12 @@ impl Processes {
             self.agents.push(child);
         }
         Ok(())
+    }
+
+    /// The lines the world-server wrote to its stderr so far.
+    pub fn world_said(&self) -> Vec<String> {
+        let text = self.world_log.as_ref().and_then(|p| fs::read_to_string(p).ok()).unwrap_or_default();
+        text.lines().filter(|l| !l.trim().is_empty()).map(str::to_string).collect()
     }
 
     /// Tells the paused world to go on; false if it is gone.
