@@ -563,6 +563,9 @@ pub struct RunReport {
     /// Times the world checked whether robots it waited on still exist.
     #[serde(default)]
     pub liveness_checks: u64,
+    /// Round trips: wake-ups of the robots due at one simulated instant.
+    #[serde(default)]
+    pub wake_batches: u64,
 }
 
 #[cfg(test)]

@@ -130,6 +130,7 @@ fn run(args: Args) -> Result<(), String> {
         died: remote.died(),
         dropped: remote.dropped,
         liveness_checks: remote.liveness_checks,
+        wake_batches: remote.batches,
     };
     let text = serde_json::to_string(&report).map_err(|e| format!("cannot encode the report: {e}"))?;
     std::fs::write(&args.report, text).map_err(|e| format!("cannot write `{}`: {e}", args.report.display()))?;

@@ -59,6 +59,8 @@ pub struct Remote<'a> {
     pub dropped: u64,
     /// Times the world checked whether silent robots still exist.
     pub liveness_checks: u64,
+    /// Wake-ups of several robots at one simulated instant (round trips).
+    pub batches: u64,
 }
 
 impl<'a> Remote<'a> {
@@ -84,6 +86,7 @@ impl<'a> Remote<'a> {
             paused_total: Duration::ZERO,
             dropped: 0,
             liveness_checks: 0,
+            batches: 0,
         }
     }
 
@@ -164,9 +167,13 @@ impl<'a> Remote<'a> {
             let wake = WakeRef { seq: self.seq, now: c.now, tick: c.tick.as_ref(), frames: c.frames.iter().map(frame).collect() };
             wire::encode_wake_into(&wake, &mut bytes);
             self.ports.post(c.robot, self.seq, &bytes)?;
-            self.ports.notify(c.robot);
         }
         self.encoded = bytes;
+        // Every inbox filled before the first robot runs: a woken robot
+        // may take the world's core at once.
+        for c in calls {
+            self.ports.notify(c.robot);
+        }
         Ok(())
     }
 
@@ -196,6 +203,11 @@ impl<'a> Remote<'a> {
             self.woke = woke;
             if missing == 0 {
                 break;
+            }
+            if missing > 1 {
+                // Let the robots still computing have the core rather than
+                // wake the world once per answer.
+                std::thread::yield_now();
             }
             // After a short silence, and now and then after that: is a
             // silent robot's process gone?
@@ -281,6 +293,7 @@ impl Robots for Remote<'_> {
         outputs.clear();
         if self.failed.is_none() {
             self.seq += 1;
+            self.batches += 1;
             let mut slots: Vec<Option<Option<Output<Rc<[u8]>>>>> = vec![None; calls.len()];
             let res = self.publish(&calls).and_then(|()| self.collect(&calls, &mut slots));
             match res {
