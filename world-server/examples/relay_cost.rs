@@ -16,7 +16,7 @@ use std::rc::Rc;
 use std::time::Instant;
 
 use gridswarm::ipc;
-use gridswarm::wire::{self, AgentOutput, Assembler, Bytes, ToAgent, ToWorld, Wake, WireFrame, WireLimits, WireSend};
+use gridswarm::wire::{self, AgentOutput, Assembler, ByteSlice, Bytes, ToWorld, WakeRef, WireFrameRef, WireLimits, WireSend};
 
 const ITERS: usize = 5000;
 
@@ -84,6 +84,7 @@ fn relay(node: &iceoryx2::prelude::Node<ipc::Svc>, size: usize, k: usize) -> Res
     let mut buf = Vec::new();
     let mut world_asm = Assembler::new(1 << 22);
     let mut agent_asm: Vec<Assembler> = (0..k).map(|_| Assembler::new(1 << 22)).collect();
+    let mut encoded = Vec::new();
     let t = Instant::now();
     for seq in 0..ITERS as u64 {
         // The sender's answer carries the frame.
@@ -108,10 +109,11 @@ fn relay(node: &iceoryx2::prelude::Node<ipc::Svc>, size: usize, k: usize) -> Res
         let payload = payload.ok_or("lost")?;
         // ... and delivers it to every receiver in a wake-up.
         for (r, p) in down_pubs.iter().enumerate() {
-            let wake = Wake { seq, now: 2, tick: None, frames: vec![WireFrame { from: 1, at: 2, bytes: Bytes(payload.to_vec()) }] };
-            let bytes = wire::encode_to_agent(&ToAgent::Wake(wake));
+            let wake = WakeRef { seq, now: 2, tick: None, frames: vec![WireFrameRef { from: 1, at: 2, bytes: ByteSlice(&payload) }] };
+            wire::encode_wake_into(&wake, &mut encoded);
+            let bytes = &encoded;
             let mut res = Ok(());
-            wire::chunks(seq, &bytes, ipc::CHUNK_BYTES, |c| res = res.clone().and(ipc::publish(p, c)));
+            wire::chunks(seq, bytes, ipc::CHUNK_BYTES, |c| res = res.clone().and(ipc::publish(p, c)));
             res?;
             while ipc::receive(&down_subs[r], &mut buf)? {
                 if let Ok(Some((_, m))) = agent_asm[r].push(&buf) {
