@@ -566,6 +566,9 @@ pub struct RunReport {
     /// Round trips: wake-ups of the robots due at one simulated instant.
     #[serde(default)]
     pub wake_batches: u64,
+    /// Bytes of the largest wake-up (more than [`CHUNK_BYTES`]: it went in chunks).
+    #[serde(default)]
+    pub largest_wake_bytes: usize,
 }
 
 #[cfg(test)]

@@ -162,6 +162,24 @@ fn faults_and_radio_impairments_give_the_in_process_run() {
 }
 
 #[test]
+fn wake_ups_bigger_than_a_sample_cross_in_chunks_unchanged() {
+    let _s = serial();
+    let dir = scratch("chunks");
+    // `large`: maps of about 10 KB; a robot hearing two at one instant gets
+    // a wake-up bigger than one 16 KiB sample.
+    let mut opts = RunOptions::for_experiment("large".into(), Policy::Repulsive, 30, 4, Situation::Two, 0, 25);
+    opts.radio = Radio { loss: 0.05, ..Radio::default() };
+    let (d, s) = (dir.join("run"), dir.join("sim"));
+    let summary =
+        run_into(&d, &["--scenario", "large", "--robots", "30", "--seed", "4", "--situation", "2", "--max-rounds", "25", "--loss", "0.05"]);
+    in_process(&opts, &s);
+    assert_same_run("large, 30 robots", &d, &s, &summary);
+    let largest = num(&summary["largest_wake_bytes"]);
+    assert!(largest > gridswarm::ipc::CHUNK_BYTES as u64, "no wake-up needed chunks: {largest} bytes");
+    assert_eq!(num(&summary["dropped_messages"]["total"]), 0);
+}
+
+#[test]
 fn killed_robots_are_declared_by_the_robots_and_the_search_completes() {
     let _s = serial();
     let dir = scratch("kill");

@@ -131,6 +131,7 @@ fn run(args: Args) -> Result<(), String> {
         dropped: remote.dropped,
         liveness_checks: remote.liveness_checks,
         wake_batches: remote.batches,
+        largest_wake_bytes: remote.largest_wake,
     };
     let text = serde_json::to_string(&report).map_err(|e| format!("cannot encode the report: {e}"))?;
     std::fs::write(&args.report, text).map_err(|e| format!("cannot write `{}`: {e}", args.report.display()))?;

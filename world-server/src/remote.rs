@@ -61,6 +61,8 @@ pub struct Remote<'a> {
     pub liveness_checks: u64,
     /// Wake-ups of several robots at one simulated instant (round trips).
     pub batches: u64,
+    /// Bytes of the largest wake-up message.
+    pub largest_wake: usize,
 }
 
 impl<'a> Remote<'a> {
@@ -87,6 +89,7 @@ impl<'a> Remote<'a> {
             dropped: 0,
             liveness_checks: 0,
             batches: 0,
+            largest_wake: 0,
         }
     }
 
@@ -167,6 +170,7 @@ impl<'a> Remote<'a> {
             let wake = WakeRef { seq: self.seq, now: c.now, tick: c.tick.as_ref(), frames: c.frames.iter().map(frame).collect() };
             wire::encode_wake_into(&wake, &mut bytes);
             self.ports.post(c.robot, self.seq, &bytes)?;
+            self.largest_wake = self.largest_wake.max(bytes.len());
         }
         self.encoded = bytes;
         // Every inbox filled before the first robot runs: a woken robot

@@ -120,6 +120,7 @@ pub fn extra(prefix: &str, opts: &RunOptions, plan: &Plan, report: &RunReport, f
         "wakeups_per_robot_round": per_robot_round(r.protocol.wakes, r),
         "died": report.died,
         "liveness_checks": report.liveness_checks,
+        "largest_wake_bytes": report.largest_wake_bytes,
         "round_trips_per_round": report.wake_batches as f64 / f64::from(r.rounds.max(1)),
         "ended_by": r.protocol.ended_by,
     })
