@@ -3,7 +3,7 @@
 //! run` each, reporting medians of wall time per round (p50, p99), start-up,
 //! peak RSS of one agent and of the world-server, the world's open file
 //! descriptors, and the in-process engine's wall time per round on the same
-//! runs with the ratio.
+//! runs with the ratio, and messages and wake-ups per robot per round.
 //!
 //!     cargo build --release --workspace
 //!     cargo bench -p gridswarm-orchestrator --bench distributed

@@ -86,6 +86,9 @@ pub struct ScaleRun {
     pub agent_rss_p50_kib: Option<f64>,
     pub world_rss_kib: Option<f64>,
     pub world_fds: Option<f64>,
+    /// Frames handed to the radio, and wake-ups, per robot per round.
+    pub messages_per_robot_round: Option<f64>,
+    pub wakeups_per_robot_round: Option<f64>,
     pub inproc_rounds: u64,
     pub inproc_ms_per_round: f64,
 }
@@ -115,6 +118,8 @@ pub struct ScaleRow {
     pub agent_rss_p50_kib: Option<f64>,
     pub world_rss_kib: Option<f64>,
     pub world_fds: Option<f64>,
+    pub messages_per_robot_round: Option<f64>,
+    pub wakeups_per_robot_round: Option<f64>,
     /// Whether the in-process engine took the same number of rounds in every run.
     pub same_rounds: bool,
 }
@@ -142,6 +147,8 @@ impl ScaleRow {
             agent_rss_p50_kib: m(&|r| r.agent_rss_p50_kib),
             world_rss_kib: m(&|r| r.world_rss_kib),
             world_fds: m(&|r| r.world_fds),
+            messages_per_robot_round: m(&|r| r.messages_per_robot_round),
+            wakeups_per_robot_round: m(&|r| r.wakeups_per_robot_round),
             same_rounds: runs.iter().all(|r| r.rounds == r.inproc_rounds),
         }
     }
@@ -150,7 +157,7 @@ impl ScaleRow {
 pub const CSV_HEADER: &str = "robots,scenario,runs,completed_runs,median_rounds,round_wall_p50_ms,round_wall_p99_ms,\
                               inproc_ms_per_round,ratio_p50_to_inproc,world_ready_ms,agents_spawned_ms,hello_ms,\
                               agent_peak_rss_max_kib,agent_peak_rss_p50_kib,world_peak_rss_kib,world_fds,\
-                              inproc_same_rounds";
+                              messages_per_robot_round,wakeups_per_robot_round,inproc_same_rounds";
 
 pub fn csv(rows: &[ScaleRow]) -> String {
     let n = output::csv_num;
@@ -158,7 +165,7 @@ pub fn csv(rows: &[ScaleRow]) -> String {
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.robots,
             r.scenario,
             r.runs,
@@ -175,6 +182,8 @@ pub fn csv(rows: &[ScaleRow]) -> String {
             n(r.agent_rss_p50_kib),
             n(r.world_rss_kib),
             n(r.world_fds),
+            n(r.messages_per_robot_round),
+            n(r.wakeups_per_robot_round),
             r.same_rounds
         );
     }
@@ -183,7 +192,8 @@ pub fn csv(rows: &[ScaleRow]) -> String {
 
 pub const RUNS_CSV_HEADER: &str = "robots,scenario,run,seed,complete,rounds,round_wall_p50_ms,round_wall_p99_ms,\
                                    inproc_rounds,inproc_ms_per_round,agents_spawned_ms,hello_ms,run_wall_ms,\
-                                   agent_peak_rss_max_kib,agent_peak_rss_p50_kib,world_peak_rss_kib,world_fds";
+                                   agent_peak_rss_max_kib,agent_peak_rss_p50_kib,world_peak_rss_kib,world_fds,\
+                                   messages_per_robot_round,wakeups_per_robot_round";
 
 fn runs_csv(runs: &[ScaleRun]) -> String {
     let n = output::csv_num;
@@ -191,7 +201,7 @@ fn runs_csv(runs: &[ScaleRun]) -> String {
     for r in runs {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{},{},{},{},{}",
             r.robots,
             r.scenario,
             r.run,
@@ -208,7 +218,9 @@ fn runs_csv(runs: &[ScaleRun]) -> String {
             n(r.agent_rss_max_kib),
             n(r.agent_rss_p50_kib),
             n(r.world_rss_kib),
-            n(r.world_fds)
+            n(r.world_fds),
+            n(r.messages_per_robot_round),
+            n(r.wakeups_per_robot_round)
         );
     }
     s
@@ -233,6 +245,8 @@ fn table(rows: &[ScaleRow]) -> Table {
             "agent RSS p50 (MiB)",
             "world RSS (MiB)",
             "world fds",
+            "messages/robot/round",
+            "wake-ups/robot/round",
         ]
         .map(String::from)
         .to_vec(),
@@ -254,6 +268,8 @@ fn table(rows: &[ScaleRow]) -> Table {
                     mib(r.agent_rss_p50_kib),
                     mib(r.world_rss_kib),
                     f(r.world_fds, 0),
+                    f(r.messages_per_robot_round, 2),
+                    f(r.wakeups_per_robot_round, 2),
                 ]
             })
             .collect(),
@@ -401,6 +417,8 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
                 agent_rss_p50_kib: g("/agent_peak_rss_kib/p50"),
                 world_rss_kib: g("/world_peak_rss_kib"),
                 world_fds: g("/world_fds"),
+                messages_per_robot_round: g("/messages_per_robot_round"),
+                wakeups_per_robot_round: g("/wakeups_per_robot_round"),
                 inproc_rounds,
                 inproc_ms_per_round,
             });
@@ -536,6 +554,8 @@ mod tests {
             agent_rss_p50_kib: Some(4000.0),
             world_rss_kib: Some(6000.0),
             world_fds: Some(90.0),
+            messages_per_robot_round: Some(4.0),
+            wakeups_per_robot_round: Some(3.0),
             inproc_rounds: 10,
             inproc_ms_per_round: inproc,
         }

@@ -19,10 +19,10 @@
 //! | `gridswarm/robot/<i>/wake` | event | world | robot `i` |
 //! | `gridswarm/world/wake` | event, id = robot | every robot | world |
 //!
-//! Payloads are postcard bytes of [`crate::protocol::ToWorld`] (out) and
-//! [`crate::protocol::FromWorld`] (in). The world is the radio: it relays a
-//! robot's messages to the robots in range, so one robot can only ever speak
-//! as itself, and only to the robots the physics lets it reach.
+//! Payloads are chunks ([`crate::wire::chunks`]) of postcard bytes of
+//! [`crate::wire::ToWorld`] (out) and [`crate::wire::ToAgent`] (in). The
+//! world is the radio medium: it carries a robot's frames, as opaque bytes,
+//! to the robots in range at their simulated arrival times.
 
 use std::fs;
 use std::io;
@@ -34,44 +34,19 @@ use iceoryx2::node::NodeView;
 use iceoryx2::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::map::RobotId;
-use crate::outcome::RunResult;
+use crate::outcome::{RunConfig, RunResult};
 
 /// Every prefix of a run starts with this, followed by the owner's pid.
 pub const PREFIX_HEAD: &str = "gs";
 
-/// Messages in a robot's inbox beyond one per robot: the inbox must hold a
-/// whole round's worth (a tick, a target broadcast from every robot, the
-/// neighbours' maps and choices, failures, the end) without dropping any.
-pub const INBOX_SLACK: usize = 64;
-/// A robot sends at most four messages a round (hello, targets, map, choice
-/// or stop), and never more than one round ahead of the world.
-pub const OUTBOX_BUFFER: usize = 16;
-/// Bytes of a postcard varint of a `u32` (or smaller), at most.
-const VARINT32: usize = 5;
-/// Bytes of a postcard varint of a `u64`, at most.
-const VARINT64: usize = 10;
+/// Bytes of one sample (a chunk of a message, header included).
+pub const CHUNK_BYTES: usize = 16 * 1024;
+/// Chunks a robot's inbox holds: one wake-up at a time, up to this many
+/// chunks (2 MiB). A bigger wake-up is an error, never a silent drop.
+pub const INBOX_CHUNKS: usize = 128;
+/// Chunks a robot's outbox holds (its hello and one answer at a time).
+pub const OUTBOX_CHUNKS: usize = 64;
 
-/// The largest message of a run (a map with every bit set and every robot
-/// failed, or a tick naming every robot): every sample is this big, so one
-/// static data segment per publisher holds any message. (A growing segment,
-/// iceoryx2's `PowerOfTwo`, costs a reference-count table for 255 possible
-/// segments per sample slot: about 0.5 MB of heap per inbox at 200 robots.)
-pub fn max_message_len(limits: &crate::protocol::Limits) -> usize {
-    let words = |bits: usize| bits.div_ceil(64);
-    let bitset = |bits: usize| VARINT32 + VARINT64 * words(bits);
-    // Enum tags (outer and inner), round, sender, vertex.
-    let header = 2 * VARINT32 + VARINT32 + 3 + VARINT32;
-    let map = bitset(limits.vertices) * 2
-        + VARINT32
-        + limits.vertices
-        + bitset(limits.targets)
-        + VARINT32
-        + limits.robots * (3 + VARINT32);
-    let tick = 2 + 2 + VARINT32 + 3 * limits.targets + VARINT32 + 3 * limits.robots;
-    let targets = VARINT32 + 3 * limits.targets;
-    header + map.max(tick).max(targets) + 16
-}
 /// The event id a robot's notifier uses is its robot id; ids up to this are
 /// valid (robots are numbered below [`MAX_ROBOTS`]).
 pub const MAX_ROBOTS: usize = 4096;
@@ -167,11 +142,6 @@ pub mod names {
     pub fn robot_wake(i: usize) -> String {
         format!("gridswarm/robot/{i}/wake")
     }
-}
-
-/// A robot's inbox size in a run of `robots` robots.
-pub fn inbox_buffer(robots: usize) -> usize {
-    robots + INBOX_SLACK
 }
 
 pub fn service_name(name: &str) -> Result<ServiceName, String> {
@@ -336,28 +306,35 @@ pub fn list_nodes(config: &Config) -> Result<Vec<NodeInfo>, String> {
 }
 
 /// Whether process `pid` is running: it exists and is not a zombie (a
-/// killed child stays a zombie until its parent reaps it).
+/// killed child stays a zombie until its parent reaps it). Only proof of
+/// death counts: no such entry (`ENOENT`/`ESRCH`) or a zombie or dead
+/// state. An entry that cannot be read for any other reason (`EMFILE`
+/// under a low descriptor limit, a permission) means alive.
 pub fn pid_alive(pid: u32) -> bool {
+    pid_liveness(pid).unwrap_or(true)
+}
+
+/// What `/proc` says about process `pid`: `Some(true)` running, `Some(false)`
+/// gone or a zombie, `None` when its entry cannot be read (it cannot tell).
+pub fn pid_liveness(pid: u32) -> Option<bool> {
     match fs::read_to_string(format!("/proc/{pid}/stat")) {
-        // The state follows the command name, which is in parentheses and
-        // may itself contain spaces or parentheses.
-        Ok(stat) => match stat.rfind(')') {
-            Some(k) => !matches!(
-                stat[k + 1..].trim_start().chars().next(),
-                Some('Z' | 'X' | 'x') | None
-            ),
-            None => false,
-        },
-        Err(_) => false,
+        Ok(stat) => Some(!stat_state(&stat).is_some_and(|c| matches!(c, 'Z' | 'X' | 'x'))),
+        Err(e) if matches!(e.raw_os_error(), Some(libc::ENOENT) | Some(libc::ESRCH)) => Some(false),
+        Err(_) => None,
     }
+}
+
+/// The state letter of a `/proc/PID/stat` line. It follows the command
+/// name, which is in parentheses and may itself hold spaces or parentheses.
+fn stat_state(stat: &str) -> Option<char> {
+    let k = stat.rfind(')')?;
+    stat[k + 1..].trim_start().chars().next()
 }
 
 /// Whether process `pid` is stopped (SIGSTOP), for reports and tests.
 pub fn pid_stopped(pid: u32) -> bool {
     match fs::read_to_string(format!("/proc/{pid}/stat")) {
-        Ok(stat) => stat
-            .rfind(')')
-            .is_some_and(|k| matches!(stat[k + 1..].trim_start().chars().next(), Some('T' | 't'))),
+        Ok(stat) => matches!(stat_state(&stat), Some('T' | 't')),
         Err(_) => false,
     }
 }
@@ -542,83 +519,56 @@ fn status_field(file: &str, key: &str) -> u64 {
         .unwrap_or(0)
 }
 
-/// A failure the world declared (Sec. 4.2).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Detection {
-    pub robot: RobotId,
-    /// The round in which the world declared it.
-    pub round: u32,
-    /// Lattice coordinates of the vertex it stays on for good.
-    pub at: [i32; 2],
-    /// `death` (its process is gone) or `deadline` (silent too long).
-    pub cause: String,
-    /// The robots told: its radio neighbours when it was declared, then
-    /// every robot that came within radio range of it later, in that order.
-    pub detected_by: Vec<RobotId>,
-    /// Milliseconds since the world started.
-    pub at_ms: f64,
-}
-
-/// Messages the world dropped, by reason.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Dropped {
-    /// From a robot declared failed, or of an older round.
-    pub stale: u64,
-    /// Undecodable or out of range for the run.
-    pub malformed: u64,
-    /// Claiming to come from another robot than the outbox it came on.
-    pub spoofed: u64,
-    /// Decodable but out of place (a second map, a choice before the exchange ended, ...).
-    pub unexpected: u64,
-}
-
-impl Dropped {
-    pub fn total(&self) -> u64 {
-        self.stale + self.malformed + self.spoofed + self.unexpected
-    }
-}
-
-/// A pause of the world at the start of a round (failure injection).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Pause {
-    pub round: u32,
-    /// When the world went on again, in milliseconds since it started.
-    pub go_ms: f64,
+/// What the orchestrator hands the world-server (`--run FILE`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunFile {
+    /// Built-in scenario name or TOML path.
+    pub scenario: String,
+    pub robots: usize,
+    /// Overrides the scenario's `params.retries`.
+    #[serde(default)]
+    pub retries: Option<u32>,
+    pub config: RunConfig,
 }
 
 /// What the world-server writes at the end of a run, for the orchestrator.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunReport {
-    /// The run's result, as the in-process engine reports it (trajectories aside).
+    /// The kernel's result (its trajectories and round times are below).
     pub result: RunResult,
-    /// `vertices[r][k]`: the vertex id robot `r` stood on at the start of round `k`.
-    pub vertices: Vec<Vec<u32>>,
-    pub failures: Vec<Detection>,
-    pub refused_moves: u32,
-    pub dropped: Dropped,
-    /// Wall time of every round played, in milliseconds.
-    pub round_wall_ms: Vec<f64>,
-    /// Of which: sensing and map exchange (steps 1-3), per round.
-    pub exchange_wall_ms: Vec<f64>,
-    /// Of which: the choices (step 5, its chain of waits), per round.
-    pub choice_wall_ms: Vec<f64>,
-    /// The longest chain of waiting in step 5, per round (1 for RU).
-    pub chain: Vec<u32>,
     /// Simulated time at the end of each round (element `k` ends round `k`).
     pub round_end_times_s: Vec<f64>,
-    /// Peak RSS of each robot-agent still running at the end (0 if unknown), KiB.
-    pub agent_peak_rss_kib: Vec<u64>,
-    /// CPU time the world spent in the rounds (after every hello), ms.
-    pub world_cpu_ms: f64,
-    /// CPU time each robot-agent still running at the end had used, ms (start-up included).
-    pub agent_cpu_ms: Vec<f64>,
-    pub pauses: Vec<Pause>,
+    /// `vertices[r][k]`: the vertex id robot `r` stood on at the start of round `k`.
+    pub vertices: Vec<Vec<u32>>,
+    /// Wall time of every round played, in milliseconds, pauses for
+    /// fault injection left out.
+    pub round_wall_ms: Vec<f64>,
     /// From the world's start until every robot had said hello, in milliseconds.
     pub startup_ms: f64,
-    pub world_peak_rss_kib: u64,
+    /// Wall time spent paused at faults, in milliseconds.
+    pub paused_ms: f64,
     pub world_fds: usize,
-    /// How the search ended: `stop` (a stop rule fired), `max_rounds`, `no_robots`.
-    pub ended_by: String,
+    pub world_peak_rss_kib: u64,
+    /// CPU time the world spent after every hello, ms.
+    pub world_cpu_ms: f64,
+    /// Peak RSS of each robot-agent still running at the end (0 if unknown), KiB.
+    pub agent_peak_rss_kib: Vec<u64>,
+    /// CPU time each robot-agent still running at the end had used, ms.
+    pub agent_cpu_ms: Vec<f64>,
+    /// Robots whose process vanished outside the fault schedule.
+    pub died: Vec<usize>,
+    /// Wire messages the world dropped (stale or malformed chunks).
+    pub dropped: u64,
+    /// Times the world checked whether robots it waited on still exist.
+    #[serde(default)]
+    pub liveness_checks: u64,
+    /// Round trips: wake-ups of the robots due at one simulated instant.
+    #[serde(default)]
+    pub wake_batches: u64,
+    /// Bytes of the largest wake-up (more than [`CHUNK_BYTES`]: it went in chunks).
+    #[serde(default)]
+    pub largest_wake_bytes: usize,
 }
 
 #[cfg(test)]
@@ -648,70 +598,40 @@ mod tests {
     }
 
     #[test]
-    fn the_largest_messages_fit() {
-        use crate::map::Map;
-        use crate::protocol::{
-            encode_from_world, encode_to_world, FromWorld, Limits, Message, ToWorld,
-        };
-        for (vertices, targets, robots) in [
-            (1, 0, 1),
-            (100, 9, 13),
-            (7600, 25, 200),
-            (20_000, 300, 4096),
-        ] {
-            let limits = Limits {
-                vertices,
-                targets,
-                robots,
-            };
-            let mut map = Map::new(vertices, targets);
-            for v in 0..vertices {
-                map.visited.set(v);
-                map.known.set(v);
-                map.open[v] = 0xff;
-            }
-            for t in 0..targets {
-                map.targets.set(t);
-            }
-            for r in 0..robots {
-                map.add_failed(r as RobotId, (vertices - 1) as u32);
-            }
-            let big = Message::Map {
-                round: u32::MAX,
-                from: (robots - 1) as RobotId,
-                at: (vertices - 1) as u32,
-                map,
-            };
-            let tick = FromWorld::Tick {
-                round: u32::MAX,
-                at: u32::MAX,
-                open: 0xff,
-                occupied: 0xff,
-                targets: (0..targets as u16).collect(),
-                neighbours: (0..robots as u16).collect(),
-            };
-            let all = (0..targets as u16).collect();
-            let longest = [
-                encode_to_world(&ToWorld::Radio(big.clone())).len(),
-                encode_from_world(&FromWorld::Relay(big)).len(),
-                encode_from_world(&tick).len(),
-                encode_to_world(&ToWorld::Radio(Message::Targets {
-                    round: u32::MAX,
-                    from: 0,
-                    targets: all,
-                }))
-                .len(),
-            ];
-            let max = max_message_len(&limits);
-            assert!(longest.iter().all(|&l| l <= max), "{longest:?} > {max}");
-        }
-    }
-
-    #[test]
     fn process_liveness() {
         assert!(pid_alive(std::process::id()));
         assert!(!pid_alive(u32::MAX - 7));
         assert!(!pid_stopped(std::process::id()));
+        assert_eq!(stat_state("12 (a) b) Z 1"), Some('Z'));
+        assert_eq!(stat_state("garbage"), None);
+    }
+
+    /// With no descriptor left, `/proc` cannot be read: that is not death.
+    /// Runs itself again as a child process, so that exhausting the
+    /// descriptors cannot disturb the other tests.
+    #[test]
+    fn an_unreadable_proc_entry_is_not_death() {
+        const CHILD: &str = "GRIDSWARM_TEST_EMFILE_CHILD";
+        if std::env::var_os(CHILD).is_some() {
+            let mut held = Vec::new();
+            while let Ok(f) = fs::File::open("/dev/null") {
+                held.push(f);
+                assert!(held.len() < 1 << 20, "no descriptor limit to reach");
+            }
+            let me = std::process::id();
+            let (liveness, alive) = (pid_liveness(me), pid_alive(me));
+            drop(held);
+            assert_eq!(liveness, None, "EMFILE: /proc cannot tell");
+            assert!(alive, "and that is not death");
+            return;
+        }
+        let out = std::process::Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", "ipc::tests::an_unreadable_proc_entry_is_not_death", "--test-threads=1"])
+            .env(CHILD, "1")
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success() && text.contains("1 passed"), "{text}{}", String::from_utf8_lossy(&out.stderr));
     }
 
     #[test]

@@ -26,6 +26,7 @@ pub mod sim;
 pub mod setup;
 pub mod referee;
 pub mod protocol;
+pub mod wire;
 pub mod assumptions;
 pub mod vopr;
 /// The distributed engine's shared pieces (iceoryx2 config, names, cleanup).

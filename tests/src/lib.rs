@@ -87,9 +87,17 @@ pub fn leftover_files(prefix: &str) -> Vec<PathBuf> {
     gridswarm::ipc::run_files(prefix, &iox_root())
 }
 
+/// No file in /dev/shm or iceoryx2's root, no temporary file and no
+/// process of the run with this prefix is left.
 pub fn assert_no_leftovers(prefix: &str) {
     let files = leftover_files(prefix);
     assert!(files.is_empty(), "files of run {prefix} left: {files:?}");
+    assert_eq!(temp_files(prefix), Vec::<PathBuf>::new(), "temporary files of run {prefix} left");
+    assert!(
+        wait_until(Duration::from_secs(5), || processes_of(prefix).is_empty()),
+        "processes of run {prefix} left: {:?}",
+        processes_of(prefix)
+    );
 }
 
 /// Child processes of `pid`.
@@ -150,10 +158,51 @@ pub fn signal(pid: u32, sig: i32) {
     }
 }
 
+/// A scratch directory for one test, removed when dropped (also when
+/// the test fails and unwinds).
+pub struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
 /// A fresh scratch directory for one test.
-pub fn scratch(name: &str) -> PathBuf {
+pub fn scratch(name: &str) -> Scratch {
     let d = std::env::temp_dir().join(format!("gridswarm-e2e-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
-    d
+    Scratch(d)
+}
+
+/// Processes whose command line mentions `prefix` (a run's iceoryx2
+/// prefix: the world-server and every robot-agent of that run carry it).
+pub fn processes_of(prefix: &str) -> Vec<u32> {
+    let Ok(dir) = std::fs::read_dir("/proc") else { return Vec::new() };
+    dir.flatten()
+        .filter_map(|e| e.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|&p| alive(p) && cmdline(p).iter().any(|a| a.contains(prefix)))
+        .collect()
+}
+
+/// The orchestrator's temporary files of a run (its run directory).
+pub fn temp_files(prefix: &str) -> Vec<PathBuf> {
+    let head = format!("gridswarm-{prefix}");
+    std::fs::read_dir(std::env::temp_dir())
+        .map(|d| d.flatten().filter(|e| e.file_name().to_string_lossy().starts_with(&head)).map(|e| e.path()).collect())
+        .unwrap_or_default()
 }

@@ -75,12 +75,12 @@ fn a_small_failures_experiment() {
     let _s = serial();
     let dir = scratch("failures");
     let out = dir.join("a");
-    let args = ["experiment", "failures", "--robots", "5", "--killed", "0-1", "--runs", "2", "--seed", "3"];
+    let args = ["experiment", "failures", "--robots", "5", "--killed", "0-1", "--runs", "2", "--seed", "3", "--engine", "distributed"];
     let o = run(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert_eq!(text(&o.stderr), "", "quiet in a pipe: no progress, no run output");
     let stdout = text(&o.stdout);
-    assert!(stdout.contains("detected/injected"), "{stdout}");
+    assert!(stdout.contains("engine distributed") && stdout.contains("detected"), "{stdout}");
 
     let (h, rows) = csv_rows(&out.join("failures.csv"));
     assert_eq!(rows.len(), 2);
@@ -88,15 +88,17 @@ fn a_small_failures_experiment() {
         assert_eq!(num(&h, r, "killed"), k as f64);
         assert_eq!(num(&h, r, "runs"), 2.0);
         assert_eq!(num(&h, r, "completion_rate"), 1.0);
-        assert_eq!(num(&h, r, "mean_collisions"), 0.0);
+        assert_eq!(num(&h, r, "collisions"), 0.0);
         assert!(num(&h, r, "mean_search_time_s") > 0.0);
-        assert!(num(&h, r, "mean_round_wall_p50_ms") > 0.0);
-        assert_eq!(num(&h, r, "failures_detected"), num(&h, r, "failures_injected"), "every kill detected");
+        // Robots declare a dead robot only if one of them expected to hear
+        // it again (the world no longer tells): some kills go undeclared.
+        assert!(num(&h, r, "failures_detected") <= num(&h, r, "failures_injected"));
+        assert_eq!(num(&h, r, "failures_injected"), k as f64 * 2.0, "one kill per run, each applied");
     }
-    assert_eq!(cell(&h, &rows[0], "mean_detection_delay_ms"), "", "nothing killed, no delay");
-    if num(&h, &rows[1], "failures_injected") > 0.0 {
+    assert_eq!(cell(&h, &rows[0], "mean_detection_delay_s"), "", "nothing killed, no delay");
+    if num(&h, &rows[1], "failures_detected") > 0.0 {
         assert!(num(&h, &rows[1], "mean_detection_delay_rounds") >= 0.0);
-        assert!(num(&h, &rows[1], "mean_detection_delay_ms") >= 0.0);
+        assert!(num(&h, &rows[1], "mean_detection_delay_s") > 0.0);
     }
     assert_eq!(csv_rows(&out.join("failures-runs.csv")).1.len(), 4);
     assert_svg(&out.join("failures.svg"), &["robots killed", "Search time", "Detection delay"]);

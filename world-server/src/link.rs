@@ -1,6 +1,7 @@
 //! The world's iceoryx2 side: it creates every service of the run (so the
-//! limits are the world's, with room for every robot) and implements
-//! [`Link`] over them.
+//! limits are the world's, with room for every robot) and holds its ports:
+//! a publisher into every robot's inbox, a subscriber on every outbox, a
+//! notifier per robot and one listener the robots notify.
 
 use std::time::Duration;
 
@@ -8,10 +9,9 @@ use gridswarm::ipc::{
     self, names, BytesPublisher, BytesService, BytesSubscriber, EventService, Listener, Notifier,
     Svc,
 };
+use gridswarm::wire;
 use iceoryx2::config::Config;
 use iceoryx2::prelude::*;
-
-use crate::server::Link;
 
 pub fn world_node(config: &Config) -> Result<Node<Svc>, String> {
     ipc::create_node(config, names::WORLD_NODE)
@@ -36,128 +36,82 @@ impl Services {
             world_wake: ipc::create_event(node, &names::world_wake(), robots, robots.max(1))?,
         };
         for i in 0..robots {
-            s.outs.push(ipc::create_bytes(
-                node,
-                &names::robot_out(i),
-                ipc::OUTBOX_BUFFER,
-            )?);
-            s.ins.push(ipc::create_bytes(
-                node,
-                &names::robot_in(i),
-                ipc::inbox_buffer(robots),
-            )?);
-            s.wakes
-                .push(ipc::create_event(node, &names::robot_wake(i), 1, 1)?);
+            s.outs.push(ipc::create_bytes(node, &names::robot_out(i), ipc::OUTBOX_CHUNKS)?);
+            s.ins.push(ipc::create_bytes(node, &names::robot_in(i), ipc::INBOX_CHUNKS)?);
+            s.wakes.push(ipc::create_event(node, &names::robot_wake(i), 1, 1)?);
         }
         Ok(s)
     }
 }
 
 /// The world's ports.
-pub struct WorldPorts {
+pub struct Ports {
     outs: Vec<BytesSubscriber>,
     ins: Vec<BytesPublisher>,
     wakes: Vec<Notifier>,
-    pub listener: Listener,
+    listener: Listener,
 }
 
-impl WorldPorts {
-    pub fn new(s: &Services, max_len: usize) -> Result<Self, String> {
-        let mut p = WorldPorts {
+impl Ports {
+    pub fn new(s: &Services) -> Result<Self, String> {
+        let listener =
+            s.world_wake.listener_builder().create().map_err(|e| format!("cannot create the world's listener: {e:?}"))?;
+        let mut p = Ports {
             outs: Vec::with_capacity(s.robots),
             ins: Vec::with_capacity(s.robots),
             wakes: Vec::with_capacity(s.robots),
-            listener: s
-                .world_wake
-                .listener_builder()
-                .create()
-                .map_err(|e| format!("cannot create the world's listener: {e:?}"))?,
+            listener,
         };
         for i in 0..s.robots {
-            p.outs
-                .push(ipc::bytes_subscriber(&s.outs[i], ipc::OUTBOX_BUFFER)?);
-            p.ins.push(ipc::bytes_publisher(&s.ins[i], max_len)?);
+            p.outs.push(ipc::bytes_subscriber(&s.outs[i], ipc::OUTBOX_CHUNKS)?);
+            p.ins.push(ipc::bytes_publisher(&s.ins[i], ipc::CHUNK_BYTES)?);
             p.wakes.push(
-                s.wakes[i]
-                    .notifier_builder()
-                    .create()
-                    .map_err(|e| format!("cannot create notifier {i}: {e:?}"))?,
+                s.wakes[i].notifier_builder().create().map_err(|e| format!("cannot create notifier {i}: {e:?}"))?,
             );
         }
         Ok(p)
     }
-}
 
-pub struct IoxLink<'a> {
-    config: &'a Config,
-    ports: &'a WorldPorts,
-    waitset: &'a WaitSet<Svc>,
-    dirty: Vec<bool>,
-    dirty_list: Vec<usize>,
-    /// Sends that failed (a robot's inbox gone): counted, never fatal.
-    pub send_errors: u64,
-}
-
-impl<'a> IoxLink<'a> {
-    pub fn new(config: &'a Config, ports: &'a WorldPorts, waitset: &'a WaitSet<Svc>) -> Self {
-        let n = ports.ins.len();
-        IoxLink {
-            config,
-            ports,
-            waitset,
-            dirty: vec![false; n],
-            dirty_list: Vec::with_capacity(n),
-            send_errors: 0,
+    /// Puts one message (numbered `seq`) into robot `r`'s inbox, in chunks.
+    pub fn post(&self, r: usize, seq: u64, bytes: &[u8]) -> Result<(), String> {
+        let n = wire::chunk_count(bytes.len(), ipc::CHUNK_BYTES);
+        if n > ipc::INBOX_CHUNKS {
+            return Err(format!(
+                "a message of {} bytes for robot {r} needs {n} chunks; its inbox holds {}",
+                bytes.len(),
+                ipc::INBOX_CHUNKS
+            ));
         }
-    }
-}
-
-impl Link for IoxLink<'_> {
-    fn post(&mut self, robot: usize, bytes: &[u8]) {
-        if ipc::publish(&self.ports.ins[robot], bytes).is_err() {
-            self.send_errors += 1;
-        }
-    }
-
-    fn wake(&mut self, robot: usize) {
-        if !self.dirty[robot] {
-            self.dirty[robot] = true;
-            self.dirty_list.push(robot);
-        }
-    }
-
-    fn flush(&mut self) {
-        for &k in &self.dirty_list {
-            self.dirty[k] = false;
-            if self.ports.wakes[k].notify().is_err() {
-                self.send_errors += 1;
+        let mut res = Ok(());
+        wire::chunks(seq, bytes, ipc::CHUNK_BYTES, |c| {
+            if res.is_ok() {
+                res = ipc::publish(&self.ins[r], c).map_err(|e| format!("robot {r}'s inbox: {e}"));
             }
-        }
-        self.dirty_list.clear();
+        });
+        res
     }
 
-    fn wait(&mut self, timeout: Duration, woke: &mut Vec<usize>) {
-        let _ = self
-            .waitset
-            .wait_and_process_once_with_timeout(|_| CallbackProgression::Continue, timeout);
-        let _ = self
-            .ports
-            .listener
-            .try_wait(|ev| woke.push(ev.id.as_value()));
+    /// Wakes robot `r` (a failure means its side is gone; the caller finds
+    /// out by its silence).
+    pub fn notify(&self, r: usize) {
+        let _ = self.wakes[r].notify();
     }
 
-    fn recv(&mut self, robot: usize, buf: &mut Vec<u8>) -> bool {
-        ipc::receive(&self.ports.outs[robot], buf).unwrap_or(false)
+    /// Waits up to `timeout` for robots to notify; pushes their ids.
+    pub fn wait(&self, timeout: Duration, woke: &mut Vec<usize>) {
+        let _ = self.listener.timed_wait(|ev| woke.push(ev.id.as_value()), timeout);
     }
 
-    fn dead_robots(&mut self) -> Vec<usize> {
-        match ipc::list_nodes(self.config) {
-            Ok(nodes) => nodes
-                .iter()
-                .filter(|n| n.dead)
-                .filter_map(|n| names::robot_of_node(&n.name))
-                .collect(),
-            Err(_) => Vec::new(),
-        }
+    /// Takes the next chunk of robot `r`'s outbox into `buf`.
+    pub fn recv(&self, r: usize, buf: &mut Vec<u8>) -> bool {
+        ipc::receive(&self.outs[r], buf).unwrap_or(false)
+    }
+}
+
+/// Robots whose iceoryx2 node is dead (its process gone), by robot number.
+pub fn dead_nodes(config: &Config) -> Vec<usize> {
+    match ipc::list_nodes(config) {
+        Ok(nodes) => nodes.iter().filter(|n| n.dead).filter_map(|n| names::robot_of_node(&n.name)).collect(),
+        Err(_) => Vec::new(),
     }
 }

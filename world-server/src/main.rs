@@ -1,189 +1,147 @@
-//! `world-server`: the physical world of a distributed run (issue "One
-//! process per robot"). It builds the world from the scenario, creates every
-//! iceoryx2 service of the run with room for every robot, prints `ready`,
-//! waits for every robot-agent's hello, then plays rounds (see `server.rs`)
-//! and writes the run's report where `--report` says.
+//! `world-server`: the physical world of a distributed run, and nothing
+//! else: sensors, the radio medium (it carries frames as opaque bytes),
+//! the clock, motors and the collision referee. It runs the same
+//! discrete-event kernel as the in-process engine ([`gridswarm::sim`]),
+//! with every robot in a `robot-agent` process ([`remote::Remote`]). It
+//! never reads a frame, never tells a robot that another failed, never
+//! waits for the protocol: everything a robot knows it sensed or heard.
 //!
 //! Talking to the orchestrator, on stdout: `ready` once the services exist;
-//! `round K` when it pauses at the start of round K (`--pause-at`), after
-//! which it waits for one line `go` on stdin (the orchestrator injects
-//! failures meanwhile); with `--progress`, `tick K` at the start of every
-//! other round; `done` after the report is written. Errors are one
-//! `error: ...` line on stderr and exit status 1.
+//! `fault K` when the world pauses at fault `K` of the run's schedule, after
+//! which it waits for one line `go` on stdin (the orchestrator signals the
+//! robot's process meanwhile); with `--progress`, `tick K` at the start of
+//! every slot; `done` after the report is written. Errors are one
+//! `error: ...` line on stderr and exit status 1; usage errors clap's
+//! message and exit status 2.
 
 mod link;
-mod server;
+mod remote;
 
-use std::io::{BufRead, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use clap::Parser;
-use gridswarm::ipc;
-use gridswarm::params::Situation;
-use gridswarm::policy::Policy;
+use gridswarm::ipc::{self, RunFile, RunReport};
+use gridswarm::outcome::RunResult;
 use gridswarm::scenario::Scenario;
+use gridswarm::sim::Kernel;
+use gridswarm::wire::WireLimits;
+use gridswarm::world::World;
 
-use crate::server::{Server, Settings};
+use crate::remote::{say, Patience, Remote};
 
 #[derive(Parser, Debug)]
-#[command(
-    name = "world-server",
-    about = "gridswarm's physical world for a run of one process per robot"
-)]
+#[command(name = "world-server", about = "gridswarm's physical world for a run of one process per robot")]
 struct Args {
     /// The run's iceoryx2 prefix (gs<pid>x<hex>_), made by the orchestrator.
     #[arg(long)]
     prefix: String,
-    /// Built-in scenario or TOML file.
-    #[arg(long, default_value = "paper")]
-    scenario: String,
-    #[arg(long, default_value = "repulsive")]
-    algorithm: Policy,
-    /// Number of robots [default: the scenario's].
+    /// The run (JSON: scenario, robots, retries, config).
     #[arg(long)]
-    robots: Option<usize>,
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// 1 or 2 [default: the scenario's].
-    #[arg(long)]
-    situation: Option<u8>,
-    #[arg(long, default_value_t = 100_000)]
-    max_rounds: u32,
-    /// A robot silent this long while nothing it waits for is missing is declared failed.
-    #[arg(long, default_value_t = 2000)]
-    suspect_ms: u64,
-    /// After this much silence, check whether the processes waited for are alive.
-    #[arg(long, default_value_t = 20)]
-    check_ms: u64,
-    /// Rounds at whose start to pause for failure injection, comma-separated.
-    #[arg(long, value_delimiter = ',')]
-    pause_at: Vec<u32>,
-    /// How long to wait for every robot's hello, in milliseconds [default: 30 s + 100 ms a robot].
-    #[arg(long)]
-    hello_timeout_ms: Option<u64>,
-    /// Print `tick K` at the start of every round that does not pause (for
-    /// the orchestrator, so it can say in which round the world died).
-    #[arg(long)]
-    progress: bool,
+    run: PathBuf,
     /// Where to write the run's report (JSON).
     #[arg(long)]
     report: PathBuf,
+    /// Print `tick K` at the start of every slot.
+    #[arg(long)]
+    progress: bool,
+    /// Silence after which the world checks whether silent robots still exist, ms.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..))]
+    check_ms: u64,
+    /// A live robot silent this long ends the run with an error, seconds.
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u64).range(1..))]
+    silence_s: u64,
+    /// How long to wait for every robot's hello, ms [default: 30 s + 100 ms a robot].
+    #[arg(long)]
+    hello_timeout_ms: Option<u64>,
 }
 
-fn say(line: &str) -> Result<(), String> {
-    let mut out = std::io::stdout().lock();
-    writeln!(out, "{line}")
-        .and_then(|_| out.flush())
-        .map_err(|e| format!("cannot write to stdout: {e}"))
+/// The run file, its world and start vertices.
+fn load(path: &PathBuf) -> Result<(RunFile, World, Vec<u32>), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
+    let run: RunFile = serde_json::from_str(&text).map_err(|e| format!("`{}`: {e}", path.display()))?;
+    let mut scenario = Scenario::load(&run.scenario).map_err(|e| e.to_string())?;
+    if let Some(r) = run.retries {
+        scenario.params.retries = r;
+    }
+    scenario.situation = run.config.situation;
+    if !run.config.policy.on_grid() {
+        return Err(format!("algorithm `{}` does not move on the grid; the distributed engine runs grid policies only", run.config.policy));
+    }
+    if run.robots == 0 || run.robots > ipc::MAX_ROBOTS {
+        return Err(format!("robots must be in 1..={}, got {}", ipc::MAX_ROBOTS, run.robots));
+    }
+    gridswarm::sim::schedule::check(&run.config.faults, run.robots)?;
+    let world = scenario.world();
+    let starts = scenario.start_vertices(&world, run.robots).map_err(|e| e.to_string())?;
+    Ok((run, world, starts))
 }
 
 fn run(args: Args) -> Result<(), String> {
+    let t0 = Instant::now();
     ipc::quiet_logs();
     let nofile = ipc::raise_nofile_limit();
     let config = ipc::config(&args.prefix)?;
-    let mut scenario = Scenario::load(&args.scenario).map_err(|e| e.to_string())?;
-    if let Some(s) = args.situation {
-        scenario.situation = Situation::from_number(s)
-            .ok_or_else(|| format!("situation must be 1 or 2, got {s}"))?;
-    }
-    if !args.algorithm.on_grid() {
-        return Err(format!("algorithm `{}` does not move on the grid; the distributed engine runs grid policies only", args.algorithm));
-    }
-    let robots = args.robots.unwrap_or(scenario.robots);
-    if robots == 0 || robots > ipc::MAX_ROBOTS {
-        return Err(format!(
-            "robots must be in 1..={}, got {robots}",
-            ipc::MAX_ROBOTS
-        ));
-    }
-    let world = scenario.world();
-    let starts = scenario
-        .start_vertices(&world, robots)
-        .map_err(|e| e.to_string())?;
-    // About six descriptors a robot; say so plainly rather than fail inside iceoryx2.
+    let (run, world, starts) = load(&args.run)?;
+    let robots = run.robots;
     if (nofile as usize) < 8 * robots + 64 {
         eprintln!("warning: open-file limit {nofile} may be too low for {robots} robots");
     }
-
     let node = link::world_node(&config)?;
     let services = link::Services::create(&node, robots)?;
-    let limits = gridswarm::protocol::Limits {
-        vertices: world.grid.len(),
-        targets: world.targets.len(),
-        robots,
-    };
-    let ports = link::WorldPorts::new(&services, ipc::max_message_len(&limits))?;
-    let waitset = iceoryx2::prelude::WaitSetBuilder::new()
-        .signal_handling_mode(iceoryx2::prelude::SignalHandlingMode::Disabled)
-        .create::<iceoryx2::prelude::ipc::Service>()
-        .map_err(|e| format!("cannot create the wait set: {e:?}"))?;
-    let _guard = waitset
-        .attach_notification(&ports.listener)
-        .map_err(|e| format!("cannot attach the listener: {e:?}"))?;
-    let mut link = link::IoxLink::new(&config, &ports, &waitset);
+    let ports = link::Ports::new(&services)?;
     say("ready")?;
-
-    let settings = Settings {
-        policy: args.algorithm,
-        situation: scenario.situation,
-        seed: args.seed,
-        max_rounds: args.max_rounds,
-        check: Duration::from_millis(args.check_ms.max(1)),
-        suspect: Duration::from_millis(args.suspect_ms.max(1)),
-        hello_timeout: Duration::from_millis(
-            args.hello_timeout_ms
-                .unwrap_or(30_000 + 100 * robots as u64),
-        ),
+    let limits = WireLimits::for_world(robots, world.grid.len(), world.targets.len());
+    let patience = Patience {
+        check: Duration::from_millis(args.check_ms),
+        limit: Duration::from_secs(args.silence_s),
+        progress: args.progress,
     };
-    let mut server = Server::new(&world, &starts, settings);
-    server.hello(&mut link).map_err(|e| e.to_string())?;
-    let mut pauses: Vec<u32> = args.pause_at.clone();
-    pauses.sort_unstable();
-    pauses.dedup();
-    let progress = args.progress;
-    let stdin = std::io::stdin();
-    let mut line = String::new();
-    loop {
-        if pauses.binary_search(&server.round()).is_ok() {
-            say(&format!("round {}", server.round()))?;
-            line.clear();
-            let n = stdin
-                .lock()
-                .read_line(&mut line)
-                .map_err(|e| format!("cannot read stdin: {e}"))?;
-            if n == 0 {
-                return Err(format!(
-                    "stdin closed while paused in round {}",
-                    server.round()
-                ));
-            }
-            if line.trim() != "go" {
-                return Err(format!("expected `go` on stdin, got `{}`", line.trim()));
-            }
-            server.paused();
-        } else if progress {
-            say(&format!("tick {}", server.round()))?;
-        }
-        if !server.play_round(&mut link) {
-            break;
-        }
+    let mut remote = Remote::new(&ports, &config, limits, patience, run.config.faults.clone());
+    remote.hello(Duration::from_millis(args.hello_timeout_ms.unwrap_or(30_000 + 100 * robots as u64)))?;
+    let startup_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let cpu0 = ipc::cpu_ms_of(std::process::id());
+    let mut cfg = run.config.clone();
+    cfg.record_trajectories = true;
+    let result = Kernel::new(&world, &starts, &cfg).run(&mut remote);
+    remote.finish_rounds();
+    if let Some(e) = remote.failed.take() {
+        remote.end();
+        return Err(e);
     }
-    let ended_by = if server.stopped() {
-        "stop"
-    } else if server.alive_count() == 0 {
-        "no_robots"
-    } else {
-        "max_rounds"
+    let world_cpu_ms = ipc::cpu_ms_of(std::process::id()) - cpu0;
+    // Measured before `End`, while every agent still runs.
+    let agent_peak_rss_kib = remote.pids().iter().map(|&p| ipc::peak_rss_kib_of(p)).collect();
+    let agent_cpu_ms = remote.pids().iter().map(|&p| ipc::cpu_ms_of(p)).collect();
+    remote.end();
+    let report = RunReport {
+        vertices: vertices(&world, &result),
+        round_end_times_s: result.round_end_times_s.clone(),
+        result,
+        round_wall_ms: std::mem::take(&mut remote.round_wall_ms),
+        startup_ms,
+        paused_ms: remote.paused_total.as_secs_f64() * 1e3,
+        world_fds: ipc::open_fds(),
+        world_peak_rss_kib: ipc::peak_rss_kib(),
+        world_cpu_ms,
+        agent_peak_rss_kib,
+        agent_cpu_ms,
+        died: remote.died(),
+        dropped: remote.dropped,
+        liveness_checks: remote.liveness_checks,
+        wake_batches: remote.batches,
+        largest_wake_bytes: remote.largest_wake,
     };
-    let report = server.report(ended_by, ipc::open_fds(), ipc::peak_rss_kib());
-    let text =
-        serde_json::to_string(&report).map_err(|e| format!("cannot encode the report: {e}"))?;
-    std::fs::write(&args.report, text)
-        .map_err(|e| format!("cannot write `{}`: {e}", args.report.display()))?;
-    say("done")?;
-    Ok(())
+    let text = serde_json::to_string(&report).map_err(|e| format!("cannot encode the report: {e}"))?;
+    std::fs::write(&args.report, text).map_err(|e| format!("cannot write `{}`: {e}", args.report.display()))?;
+    say("done")
+}
+
+/// `vertices[r][k]`: robot `r`'s vertex at the start of round `k`.
+fn vertices(world: &World, result: &RunResult) -> Vec<Vec<u32>> {
+    let id = |p: &gridswarm::outcome::Pose| p.vertex.and_then(|c| world.grid.id_of(c)).unwrap_or(u32::MAX);
+    result.trajectories.iter().map(|t| t.iter().map(id).collect()).collect()
 }
 
 fn main() -> ExitCode {
@@ -194,21 +152,14 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         Err(e) => {
-            let rendered = e.to_string();
-            eprintln!(
-                "{}",
-                rendered
-                    .lines()
-                    .find(|l| !l.trim().is_empty())
-                    .unwrap_or("error: bad arguments")
-            );
+            let _ = e.print();
             return ExitCode::from(2);
         }
     };
     match run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", e.replace('\n', "; "));
             ExitCode::FAILURE
         }
     }

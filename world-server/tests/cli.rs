@@ -1,10 +1,31 @@
 //! The binary's command line on its own (the runs themselves are tested end
 //! to end in `tests/`). Also makes `cargo test --workspace` build the binary.
 
+use std::path::PathBuf;
 use std::process::Command;
 
 fn world_server() -> Command {
     Command::new(env!("CARGO_BIN_EXE_world-server"))
+}
+
+/// A run file; removed on drop.
+struct RunFile(PathBuf);
+
+impl Drop for RunFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
+
+fn run_file(name: &str, algorithm: &str) -> RunFile {
+    let path = std::env::temp_dir().join(format!("world-server-cli-{}-{name}.json", std::process::id()));
+    let text = format!(
+        r#"{{"scenario": "paper", "robots": 3, "config": {{"policy": "{algorithm}", "seed": 1, "situation": "Two",
+            "max_rounds": 10, "measure_coverage": true, "record_trajectories": true,
+            "radio": {{"loss": 0.0, "delay": 0, "jitter": 0, "dup": 0.0}}, "faults": []}}}}"#
+    );
+    std::fs::write(&path, text).unwrap();
+    RunFile(path)
 }
 
 #[test]
@@ -12,37 +33,36 @@ fn bad_arguments_are_a_usage_error() {
     let out = world_server().arg("--no-such-flag").output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: unexpected argument '--no-such-flag'"), "{err}");
+    assert!(err.contains("Usage:"), "clap's whole message: {err}");
 }
 
 #[test]
 fn a_prefix_that_is_not_a_run_prefix_is_refused() {
     // A typo must never reach iceoryx2 (or the cleanup, which removes by prefix).
-    let out = world_server()
-        .args(["--prefix", "iox2_", "--report", "/dev/null"])
-        .output()
-        .unwrap();
+    let run = run_file("prefix", "repulsive");
+    let out = world_server().args(["--prefix", "iox2_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.starts_with("error: `iox2_` is not a run prefix"),
-        "{err}"
-    );
+    assert!(err.starts_with("error: `iox2_` is not a run prefix"), "{err}");
 }
 
 #[test]
 fn lfp_is_not_a_grid_policy() {
-    let out = world_server()
-        .args([
-            "--prefix",
-            "gs1x1_",
-            "--algorithm",
-            "lfp",
-            "--report",
-            "/dev/null",
-        ])
-        .output()
-        .unwrap();
+    let run = run_file("lfp", "lfp");
+    let out = world_server().args(["--prefix", "gs1x1_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("grid policies only"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("grid policies only"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+#[test]
+fn a_bad_run_file_is_one_error_line() {
+    let run = run_file("bad", "no-such-policy");
+    let out = world_server().args(["--prefix", "gs1x1_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: "), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
 }

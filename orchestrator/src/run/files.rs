@@ -1,0 +1,91 @@
+//! The files one run hands its children: the world's run file and one
+//! setup per robot, in a temporary directory named after the run's
+//! iceoryx2 prefix (`gridswarm-<prefix>/`), with the world's report and the
+//! agents' log. The directory goes when the run ends, whatever ends it;
+//! [`sweep_stale`] removes those of runs whose orchestrator was killed.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use gridswarm::ipc::{self, RunFile};
+use gridswarm::outcome::RunConfig;
+use gridswarm::setup::RobotSetup;
+use gridswarm::world::World;
+
+use crate::error::{Error, Result};
+
+/// The run's temporary directory; removed on drop.
+pub struct RunFiles {
+    pub dir: PathBuf,
+}
+
+impl RunFiles {
+    pub fn create(prefix: &str) -> Result<Self> {
+        let dir = std::env::temp_dir().join(format!("gridswarm-{prefix}"));
+        fs::create_dir_all(&dir).map_err(Error::write(&dir))?;
+        Ok(RunFiles { dir })
+    }
+
+    pub fn run_file(&self) -> PathBuf {
+        self.dir.join("run.json")
+    }
+
+    pub fn report(&self) -> PathBuf {
+        self.dir.join("report.json")
+    }
+
+    pub fn world_log(&self) -> PathBuf {
+        self.dir.join("world.log")
+    }
+
+    pub fn agent_log(&self) -> PathBuf {
+        self.dir.join("agents.log")
+    }
+
+    pub fn setup(&self, robot: usize) -> PathBuf {
+        self.dir.join(format!("robot-{robot}.json"))
+    }
+
+    /// Writes the world's run file and every robot's setup.
+    pub fn write(&self, run: &RunFile, world: &World, cfg: &RunConfig) -> Result<()> {
+        write_json(&self.run_file(), run)?;
+        for k in 0..run.robots {
+            write_json(&self.setup(k), &RobotSetup::new(world, cfg, k))?;
+        }
+        Ok(())
+    }
+}
+
+fn write_json(path: &Path, v: &impl serde::Serialize) -> Result<()> {
+    let text = serde_json::to_string(v).map_err(|e| Error::Run(format!("cannot encode {}: {e}", path.display())))?;
+    fs::write(path, text).map_err(Error::write(path))
+}
+
+impl Drop for RunFiles {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// The orchestrator's own temporary files of a run (`gridswarm-<prefix>...`).
+pub fn temp_files(prefix: &str) -> Vec<PathBuf> {
+    let head = format!("gridswarm-{prefix}");
+    fs::read_dir(std::env::temp_dir())
+        .map(|d| d.flatten().filter(|e| e.file_name().to_string_lossy().starts_with(&head)).map(|e| e.path()).collect())
+        .unwrap_or_default()
+}
+
+/// Removes the temporary directories of runs whose orchestrator is gone.
+pub fn sweep_stale() {
+    let Ok(dir) = fs::read_dir(std::env::temp_dir()) else { return };
+    for e in dir.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix("gridswarm-") else { continue };
+        let Some(end) = rest.find('_') else { continue };
+        let Some(owner) = ipc::prefix_owner(&rest[..=end]) else { continue };
+        if owner != std::process::id() && !ipc::pid_alive(owner) {
+            let path = e.path();
+            let _ = if path.is_dir() { fs::remove_dir_all(&path) } else { fs::remove_file(&path) };
+        }
+    }
+}

@@ -1,0 +1,393 @@
+//! `gridswarm run`: one search with one OS process per robot: a
+//! `world-server` (the simulated world: the same kernel as `simulate`) and
+//! N `robot-agent`s over iceoryx2. With the same settings it gives the
+//! same trajectories, rounds and numbers as the in-process engine, faults
+//! and radio loss included; the world pauses at every fault while the
+//! process is signalled ([`inject`]).
+//!
+//! Sequence: sweep the files of dead runs; pick a fresh iceoryx2 prefix;
+//! write the run file and every robot's setup ([`files`]); spawn the
+//! world-server, wait for its `ready`; spawn the agents ([`spawn`]); follow
+//! the world's stdout (`tick K`, `fault K` → signal → `go`, `done`); read
+//! its report; reap the agents; remove every file of the run; write the
+//! outputs ([`summary`]). If the world-server dies, or SIGINT / SIGTERM
+//! arrives, every child is killed and reaped and the run's files removed
+//! before the one-line error.
+
+mod files;
+mod inject;
+mod spawn;
+mod summary;
+
+use std::path::PathBuf;
+use std::sync::mpsc::{self, Receiver};
+use std::time::{Duration, Instant};
+
+use gridswarm::ipc::{self, RunFile, RunReport};
+use gridswarm::outcome::{RunConfig, RunResult};
+use gridswarm::params::Situation;
+use gridswarm::policy::Policy;
+use gridswarm::scenario::Scenario;
+use gridswarm::sim::{self, schedule, Fault};
+use gridswarm::world::World;
+use serde_json::{json, Value};
+
+use crate::check;
+use crate::contract;
+use crate::error::{Error, Result};
+use crate::launch::{self, Event};
+use crate::rundir::{self, RunRecord};
+
+pub use files::temp_files;
+use files::RunFiles;
+use spawn::Processes;
+
+/// How long agents get to exit by themselves after the end.
+const AGENT_GRACE: Duration = Duration::from_secs(5);
+
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    pub scenario: String,
+    pub algorithm: Policy,
+    pub robots: Option<usize>,
+    pub seed: u64,
+    pub situation: Option<Situation>,
+    pub max_rounds: u32,
+    pub radio: sim::Radio,
+    /// Overrides the scenario's `params.retries`.
+    pub retries: Option<u32>,
+    /// Faults given explicitly (checked with [`schedule::check`]).
+    pub faults: Vec<Fault>,
+    /// Crash this many more robots at times drawn from the seed.
+    pub kill_random: usize,
+    pub out: Option<PathBuf>,
+    pub json: bool,
+}
+
+impl RunOptions {
+    /// A run for an experiment: no files, nothing printed, a perfect radio,
+    /// and no faults but `kill_random` robots crashed at random times.
+    pub fn for_experiment(
+        scenario: String,
+        algorithm: Policy,
+        robots: usize,
+        seed: u64,
+        situation: Situation,
+        kill_random: usize,
+        max_rounds: u32,
+    ) -> Self {
+        RunOptions {
+            scenario,
+            algorithm,
+            robots: Some(robots),
+            seed,
+            situation: Some(situation),
+            max_rounds,
+            radio: sim::Radio::default(),
+            retries: None,
+            faults: Vec::new(),
+            kill_random,
+            out: None,
+            json: true,
+        }
+    }
+}
+
+/// Runs once; returns the text for stdout.
+pub fn run(opts: &RunOptions) -> Result<String> {
+    let done = perform(opts, false)?;
+    if opts.json {
+        return Ok(format!("{}\n", serde_json::to_string(&done.summary).expect("a JSON value serialises")));
+    }
+    Ok(summary::text(&done.plan.scenario, &done.result, &done.report, &done.summary, &done.written))
+}
+
+/// Runs once as a library call and prints nothing: returns the summary
+/// object `run --json` prints (and `--out` writes, if set). Warnings that
+/// `run` prints to stderr are in the summary's `warnings` array instead.
+/// `opts.json` is ignored.
+pub fn execute(opts: &RunOptions) -> Result<Value> {
+    let done = perform(opts, true)?;
+    let mut summary = done.summary;
+    summary["warnings"] = json!(done.warnings);
+    Ok(summary)
+}
+
+/// One run of an experiment, as [`execute`]. `what` names the run (e.g.
+/// `run 3 with 2 killed, seed 9`): an error says which run failed, and the
+/// run's warnings are added to `warnings` tagged with it.
+pub fn execute_as(opts: &RunOptions, what: &str, warnings: &mut Vec<String>) -> Result<Value> {
+    let v = execute(opts).map_err(|e| Error::Run(format!("{what}: {e}")))?;
+    for w in v["warnings"].as_array().into_iter().flatten().filter_map(Value::as_str) {
+        warnings.push(format!("{w} ({what})"));
+    }
+    Ok(v)
+}
+
+/// What a run is, before any process starts.
+pub struct Plan {
+    pub scenario: Scenario,
+    pub world: World,
+    pub starts: Vec<u32>,
+    pub robots: usize,
+    /// The settings both engines run with.
+    pub cfg: RunConfig,
+}
+
+/// Checks the options and builds the run: world, starts, faults.
+pub fn plan(opts: &RunOptions) -> Result<Plan> {
+    if !opts.algorithm.on_grid() {
+        return Err(Error::Input(format!(
+            "`run` drives one process per robot on the grid; `{}` moves off the grid (use `simulate --algorithm {}`)",
+            opts.algorithm, opts.algorithm
+        )));
+    }
+    let mut scenario = contract::load_scenario(&opts.scenario)?;
+    if let Some(s) = opts.situation {
+        scenario.situation = s;
+    }
+    if let Some(r) = opts.retries {
+        scenario.params.retries = r;
+    }
+    let robots = opts.robots.unwrap_or(scenario.robots);
+    if robots == 0 || robots > ipc::MAX_ROBOTS {
+        return Err(Error::Input(format!("robots must be in 1..={}, got {robots}", ipc::MAX_ROBOTS)));
+    }
+    schedule::check(&opts.faults, robots).map_err(Error::Input)?;
+    for (name, p) in [("--loss", opts.radio.loss), ("--dup", opts.radio.dup)] {
+        if !(0.0..=1.0).contains(&p) {
+            return Err(Error::Input(format!("{name} {p}: a probability is between 0 and 1")));
+        }
+    }
+    let taken: Vec<usize> = opts.faults.iter().map(|f| f.robot).collect();
+    let mut faults = opts.faults.clone();
+    faults.extend(schedule::kill_random(opts.seed, robots, opts.kill_random, &taken).map_err(Error::Input)?);
+    let world = scenario.world();
+    let starts = contract::start_vertices(&scenario, &world, robots)?;
+    let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
+    cfg.max_rounds = opts.max_rounds;
+    cfg.radio = opts.radio;
+    cfg.faults = faults;
+    Ok(Plan { scenario, world, starts, robots, cfg })
+}
+
+/// What one run produced, for [`run`]'s text and [`execute`]'s summary.
+struct Done {
+    plan: Plan,
+    result: RunResult,
+    report: RunReport,
+    summary: Value,
+    written: Vec<PathBuf>,
+    /// Warnings not printed (`quiet`), in order.
+    warnings: Vec<String>,
+}
+
+/// What happened while the world ran.
+pub struct Followed {
+    /// Whether each fault of the schedule was applied to its process.
+    pub applied: Vec<bool>,
+    pub ready_ms: f64,
+    pub spawned_ms: f64,
+    pub run_ms: f64,
+}
+
+/// One run. `quiet`: collect the warnings instead of printing them.
+fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
+    let mut warnings: Vec<String> = Vec::new();
+    let mut warn = |w: String| if quiet { warnings.push(w) } else { eprintln!("{w}") };
+    let plan = plan(opts)?;
+    if let Some(dir) = &opts.out {
+        crate::output::create_dir(dir)?;
+    }
+    for w in check::warnings(&contract::check_assumptions(&plan.scenario, &plan.world, &plan.starts)) {
+        warn(w);
+    }
+    let world_bin = launch::binary("world-server").map_err(Error::Run)?;
+    let agent_bin = launch::binary("robot-agent").map_err(Error::Run)?;
+
+    let prefix = ipc::new_prefix();
+    let root = ipc::root_dir(&ipc::config(&prefix).map_err(Error::Run)?);
+    // What SIGKILLed orchestrators left behind.
+    ipc::sweep_stale(&root);
+    files::sweep_stale();
+    let files = RunFiles::create(&prefix)?;
+    let run_file = RunFile { scenario: opts.scenario.clone(), robots: plan.robots, retries: opts.retries, config: plan.cfg.clone() };
+    files.write(&run_file, &plan.world, &plan.cfg)?;
+
+    let (tx, rx) = mpsc::channel();
+    launch::forward_signals(tx.clone()).map_err(Error::Run)?;
+    let mut procs = Processes::new(&prefix, root);
+    let followed = follow(&mut procs, &files, &plan, &world_bin, &agent_bin, tx, &rx)?;
+    let report = read_report(&files)?;
+    // A robot still frozen cannot read `End`.
+    for r in inject::still_frozen(&plan.cfg.faults, &followed.applied) {
+        let _ = procs.agents[r].kill();
+    }
+    let killed_at_end = launch::reap_within(&mut procs.agents, AGENT_GRACE);
+    let statuses: Vec<Option<i32>> =
+        procs.agents.iter_mut().map(|c| c.try_wait().ok().flatten().and_then(|s| s.code())).collect();
+    procs.cleanup();
+    // A signal that came while the agents were ending.
+    while let Ok(ev) = rx.try_recv() {
+        if let Event::Signal(s) = ev {
+            return Err(interrupted(&mut procs, s));
+        }
+    }
+    launch::default_signals();
+    let leftovers = ipc::run_files(&prefix, &procs.root);
+    if !leftovers.is_empty() {
+        warn(format!("warning: {} file(s) of run {prefix} could not be removed", leftovers.len()));
+    }
+    for line in procs.world_said() {
+        warn(format!("world-server: {line}"));
+    }
+    if let Some(w) = summary::agent_warning(&plan.cfg, &followed.applied, &statuses, &files.agent_log()) {
+        warn(w);
+    }
+    drop(files);
+
+    let result = summary::result_of(&plan.world, &report);
+    let extra = summary::extra(&prefix, opts, &plan, &report, &followed, killed_at_end);
+    let record = RunRecord {
+        scenario: &plan.scenario,
+        world: &plan.world,
+        starts: &plan.starts,
+        lfp: &contract::lfp_params(&plan.scenario),
+        result: &result,
+        extra,
+    };
+    let summary = record.summary();
+    let written = match &opts.out {
+        Some(dir) => rundir::write_run_dir(dir, &record)?,
+        None => Vec::new(),
+    };
+    Ok(Done { plan, result, report, summary, written, warnings })
+}
+
+/// Starts the processes and follows the world until `done`.
+fn follow(
+    procs: &mut Processes,
+    files: &RunFiles,
+    plan: &Plan,
+    world_bin: &std::path::Path,
+    agent_bin: &std::path::Path,
+    tx: mpsc::Sender<Event>,
+    rx: &Receiver<Event>,
+) -> Result<Followed> {
+    let started = Instant::now();
+    if let Err(e) = procs.start_world(world_bin, files, tx) {
+        procs.abort();
+        return Err(e);
+    }
+    // Until `ready`, the world is building the world and the services.
+    wait_ready(procs, rx)?;
+    let ready_ms = started.elapsed().as_secs_f64() * 1e3;
+    if let Err(e) = procs.start_agents(agent_bin, files, plan.robots) {
+        procs.abort();
+        return Err(e);
+    }
+    let spawned_ms = started.elapsed().as_secs_f64() * 1e3;
+    let faults = &plan.cfg.faults;
+    let mut applied = vec![false; faults.len()];
+    let mut round: Option<u32> = None;
+    loop {
+        match rx.recv() {
+            Ok(Event::Line(l)) if l == "done" => break,
+            Ok(Event::Line(l)) => {
+                if let Some(k) = l.strip_prefix("tick ").and_then(|k| k.parse().ok()) {
+                    round = Some(k);
+                } else if let Some(k) = l.strip_prefix("fault ").and_then(|k| k.parse::<usize>().ok()) {
+                    if let Some(f) = faults.get(k) {
+                        applied[k] = inject::apply(f.kind, &mut procs.agents[f.robot]);
+                    }
+                    if !procs.go() {
+                        return Err(world_died(procs, round));
+                    }
+                }
+            }
+            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, round)),
+            Ok(Event::Signal(s)) => return Err(interrupted(procs, s)),
+        }
+    }
+    let run_ms = started.elapsed().as_secs_f64() * 1e3;
+    if let Some(Ok(st)) = procs.world.as_mut().map(|w| w.wait()) {
+        if !st.success() {
+            return Err(world_died(procs, round));
+        }
+    }
+    Ok(Followed { applied, ready_ms, spawned_ms, run_ms })
+}
+
+fn wait_ready(procs: &mut Processes, rx: &Receiver<Event>) -> Result<()> {
+    loop {
+        match rx.recv() {
+            Ok(Event::Line(l)) if l == "ready" => return Ok(()),
+            Ok(Event::Line(_)) => {}
+            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, None)),
+            Ok(Event::Signal(s)) => return Err(interrupted(procs, s)),
+        }
+    }
+}
+
+fn read_report(files: &RunFiles) -> Result<RunReport> {
+    let text = std::fs::read_to_string(files.report())
+        .map_err(|e| Error::Run(format!("cannot read the world's report: {e}")))?;
+    serde_json::from_str(&text).map_err(|e| Error::Run(format!("the world's report is malformed: {e}")))
+}
+
+/// The world's verdict on its own end, once its stdout closed.
+fn world_died(procs: &mut Processes, round: Option<u32>) -> Error {
+    let status = procs.world.as_mut().and_then(|w| w.wait().ok());
+    let how = status.map(launch::describe).unwrap_or_else(|| "unknown status".into());
+    let when = match round {
+        Some(k) => format!("in round {k}"),
+        None => "before it was ready".into(),
+    };
+    procs.abort();
+    launch::default_signals();
+    let verb = if how.starts_with("signal") { "died" } else { "failed" };
+    // Its own one-line reason, when it gave one.
+    let said = procs.world_said();
+    let why = said.iter().rev().find_map(|l| l.strip_prefix("error: ")).map(|r| format!(": {r}")).unwrap_or_default();
+    Error::Run(format!("world-server {verb} ({how}) {when}{why}"))
+}
+
+fn interrupted(procs: &mut Processes, sig: i32) -> Error {
+    procs.abort();
+    launch::default_signals();
+    let name = if sig == libc::SIGINT { "SIGINT" } else { "SIGTERM" };
+    Error::Run(format!("interrupted by {name}: stopped the world-server and every robot-agent, removed the run's files"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gridswarm::sim::FaultKind;
+
+    fn opts() -> RunOptions {
+        let mut o = RunOptions::for_experiment("paper".into(), Policy::Repulsive, 13, 7, Situation::Two, 0, 100);
+        o.json = false;
+        o
+    }
+
+    #[test]
+    fn faults_are_checked_and_random_kills_added() {
+        let mut o = opts();
+        o.faults = vec![schedule::parse_kill("0@3").unwrap()];
+        o.kill_random = 5;
+        let p = plan(&o).unwrap();
+        assert_eq!(p.cfg.faults.len(), 6);
+        assert_eq!(p.cfg.faults, plan(&o).unwrap().cfg.faults, "reproducible");
+        assert!(p.cfg.faults[1..].iter().all(|f| f.robot != 0 && f.kind == FaultKind::Crash));
+        o.kill_random = 13;
+        assert!(plan(&o).is_err(), "only 12 left");
+        let mut o = opts();
+        o.faults = vec![schedule::parse_kill("13@1").unwrap()];
+        assert!(plan(&o).is_err());
+        o.algorithm = Policy::Lfp;
+        assert!(plan(&o).is_err());
+        let mut o = opts();
+        o.retries = Some(2);
+        assert_eq!(plan(&o).unwrap().world.params.retries, 2);
+    }
+}
