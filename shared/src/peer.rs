@@ -150,6 +150,8 @@ pub struct Peer<'g> {
     /// Adjacent vertices where the sonar finds a robot nobody heard, and
     /// for how many slots in a row.
     silent: Vec<(VertexId, u32)>,
+    /// A robot it expected to hear this slot stayed silent.
+    missed_any: bool,
 }
 
 impl<'g> Peer<'g> {
@@ -172,6 +174,7 @@ impl<'g> Peer<'g> {
             acks: Vec::new(),
             refusals: Vec::new(),
             silent: Vec::new(),
+            missed_any: false,
         }
     }
 
@@ -227,8 +230,11 @@ impl<'g> Peer<'g> {
         let (alarm, listen) = match self.phase {
             Phase::Exchange => (Some(self.window_end), false),
             Phase::Choosing if self.has_chosen() => {
-                let l = self.listened();
-                (Some(if l > now { self.ack_deadline.min(l) } else { self.ack_deadline }), true)
+                let wake = match self.listen_until() {
+                    Some(l) if l > now => self.ack_deadline.min(l),
+                    _ => self.ack_deadline,
+                };
+                (Some(wake), true)
             }
             Phase::Choosing => (Some(self.deadline), true),
             _ => (None, false),
@@ -242,8 +248,11 @@ impl<'g> Peer<'g> {
     }
 
     /// Until when it listens after its choice before it may commit.
-    fn listened(&self) -> Time {
-        self.choice_ready + self.cfg.timing.hop * self.cfg.timing.copies as Time
+    /// Only a robot that missed a map it expected this slot (a sign of
+    /// loss, or of a failure) listens: with every expected map in, a robot
+    /// it did not hear is one it could not have heard.
+    fn listen_until(&self) -> Option<Time> {
+        self.missed_any.then(|| self.choice_ready + self.cfg.timing.hop * self.cfg.timing.copies as Time)
     }
 
     fn has_chosen(&self) -> bool {
@@ -475,6 +484,7 @@ impl<'g> Peer<'g> {
                 out.notes.push(Note::Declared { robot: e.id });
             }
         }
+        self.missed_any = expected.iter().any(|e| e.missed > 0);
         self.expected = expected;
         self.find_bodies();
         if self.stop_known {
@@ -577,11 +587,12 @@ impl<'g> Peer<'g> {
             return;
         }
         // Choices sent at the same moment as this one by robots it did not
-        // hear (their maps lost) reach it within the copies' hops: it listens
-        // that long before it commits, so two robots that missed each
-        // other's maps still find out they chose in conflict.
+        // hear (their maps lost) reach it within the copies' hops: a robot
+        // that missed an expected map listens that long before it commits,
+        // so two robots that missed each other's maps find out they chose
+        // in conflict.
         match self.acks(c) {
-            Acks::Complete if now < self.listened() => {}
+            Acks::Complete if self.listen_until().is_some_and(|l| now < l) => {}
             Acks::Complete => self.commit(now, true, out),
             Acks::Conflict => {
                 out.notes.push(Note::Unsure);
