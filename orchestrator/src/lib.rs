@@ -1,32 +1,20 @@
-//! The `gridswarm` command as a library: every subcommand's work and the
-//! writers other engines reuse (trajectories, summaries), so that `main.rs`
-//! is only argument parsing and error printing.
+//! The `gridswarm` command as a library, in four jobs, one folder each:
+//! the command line (`cli`), experiments (`experiments`), process
+//! supervision for distributed runs (`supervise`) and writers (`write`).
+//! `contract` is the one place that calls the shared crate's scenario and
+//! engine entry points; `error` the errors every job returns. The modules
+//! are re-exported at the top so that every path reads `crate::run`,
+//! `crate::report`, ...
 
-pub mod check;
-pub mod claims;
+pub mod cli;
 pub mod contract;
 pub mod error;
-pub mod experiment;
-pub mod failures;
-pub mod faults;
-pub mod figures;
-pub mod grids;
-pub mod launch;
-pub mod output;
-pub mod panels;
-pub mod plot;
-pub mod radio;
-pub mod replay;
-pub mod report;
-pub mod robots;
-pub mod routes;
-pub mod run;
-pub mod scale;
-pub mod rundir;
-pub mod seeds;
-pub mod simulate;
-pub mod stats;
-pub mod sweep;
-pub mod tally;
+pub mod experiments;
+pub mod supervise;
+pub mod write;
 
+pub use cli::{check, faults, robots, simulate};
 pub use error::{Error, Result};
+pub use experiments::{claims, experiment, failures, grids, radio, scale, seeds, stats, sweep, tally};
+pub use supervise::{launch, run};
+pub use write::{figures, output, panels, plot, replay, report, routes, rundir};

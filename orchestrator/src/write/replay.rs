@@ -42,8 +42,8 @@ use crate::error::{Error, Result};
 use crate::output;
 use crate::rundir::{self, WorldFile};
 
-const TEMPLATE: &str = include_str!("../assets/replay.html");
-const SCRIPT: &str = include_str!("../assets/replay.js");
+const TEMPLATE: &str = include_str!("../../assets/replay.html");
+const SCRIPT: &str = include_str!("../../assets/replay.js");
 
 /// One robot's pose at the start of a round, as recorded.
 #[derive(Clone, Copy, Debug, PartialEq)]

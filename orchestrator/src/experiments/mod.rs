@@ -1,0 +1,16 @@
+//! Experiments: many runs, their statistics and their claims. The Fig. 7
+//! sweep (`experiment`), `failures`, `radio`, `scale`, the lattice
+//! comparison (`grids`), the paper's claims, and the pieces they share:
+//! running jobs on either engine (`sweep`), reading a run's figures
+//! (`tally`), statistics and seeds.
+
+pub mod claims;
+pub mod experiment;
+pub mod failures;
+pub mod grids;
+pub mod radio;
+pub mod scale;
+pub mod seeds;
+pub mod stats;
+pub mod sweep;
+pub mod tally;

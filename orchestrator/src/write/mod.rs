@@ -1,0 +1,12 @@
+//! Writers: a run's directory (summary, trajectories, world, rounds,
+//! replay page), the figures and tables experiments print and draw, and
+//! the report pages. They own files; they never decide anything.
+
+pub mod figures;
+pub mod output;
+pub mod panels;
+pub mod plot;
+pub mod replay;
+pub mod report;
+pub mod routes;
+pub mod rundir;
