@@ -129,7 +129,8 @@ fn faults_and_radio_impairments_give_the_in_process_run() {
     let freeze = |s| schedule::parse_freeze(s).unwrap();
     let lossy = Radio { loss: 0.1, ..Radio::default() };
     let noisy = Radio { loss: 0.05, delay: 3000, jitter: 2000, dup: 0.1 };
-    let cases: Vec<(&[&str], Vec<gridswarm::sim::Fault>, Radio, Option<u32>, usize)> = vec![
+    type Case<'a> = (&'a [&'a str], Vec<gridswarm::sim::Fault>, Radio, Option<u32>, usize);
+    let cases: Vec<Case> = vec![
         (&["--kill", "3@4+0.3"], vec![kill("3@4+0.3")], Radio::default(), None, 0),
         (&["--freeze", "2@3:6"], freeze("2@3:6"), Radio::default(), None, 0),
         (&["--freeze", "5@2"], freeze("5@2"), Radio::default(), None, 0),

@@ -24,6 +24,11 @@ use iceoryx2::config::Config;
 
 use crate::link::{self, Ports};
 
+
+/// A robot's answer to a wake-up, once collected: `Some(None)` when it
+/// turned out dead.
+type Slot = Option<Option<Output<Rc<[u8]>>>>;
+
 /// How long the world waits, and whom it tells about progress.
 pub struct Patience {
     /// Silence after which it checks whether silent robots still exist.
@@ -182,7 +187,7 @@ impl<'a> Remote<'a> {
     }
 
     /// Collects the answers to `calls` into `slots`.
-    fn collect(&mut self, calls: &[WakeCall<Rc<[u8]>>], slots: &mut [Option<Option<Output<Rc<[u8]>>>>]) -> Result<(), String> {
+    fn collect(&mut self, calls: &[WakeCall<Rc<[u8]>>], slots: &mut [Slot]) -> Result<(), String> {
         let mut missing = calls.len();
         let mut heard = Instant::now();
         let mut last_check: Option<Instant> = None;
@@ -215,7 +220,7 @@ impl<'a> Remote<'a> {
             }
             // After a short silence, and now and then after that: is a
             // silent robot's process gone?
-            let due = last_check.map_or(true, |t| t.elapsed() >= self.patience.check * 10);
+            let due = last_check.is_none_or(|t| t.elapsed() >= self.patience.check * 10);
             if heard.elapsed() >= self.patience.check && due {
                 missing -= self.bury_the_dead(calls, slots);
                 last_check = Some(Instant::now());
@@ -236,7 +241,7 @@ impl<'a> Remote<'a> {
     /// how many. `/proc` answers in microseconds per robot; iceoryx2's node
     /// list reads every node's files (milliseconds at 200 robots), so it is
     /// asked only when `/proc` cannot tell (see [`ipc::pid_alive`]).
-    fn bury_the_dead(&mut self, calls: &[WakeCall<Rc<[u8]>>], slots: &mut [Option<Option<Output<Rc<[u8]>>>>]) -> usize {
+    fn bury_the_dead(&mut self, calls: &[WakeCall<Rc<[u8]>>], slots: &mut [Slot]) -> usize {
         self.liveness_checks += 1;
         let mut dead_nodes: Option<Vec<usize>> = None;
         let mut n = 0;
@@ -299,7 +304,7 @@ impl Robots for Remote<'_> {
         if self.failed.is_none() {
             self.seq += 1;
             self.batches += 1;
-            let mut slots: Vec<Option<Option<Output<Rc<[u8]>>>>> = vec![None; calls.len()];
+            let mut slots: Vec<Slot> = vec![None; calls.len()];
             let res = self.publish(calls).and_then(|()| self.collect(calls, &mut slots));
             match res {
                 Ok(()) => {

@@ -145,7 +145,7 @@ impl Medium {
         let jitter = |salt: u64| if r.jitter == 0 { 0 } else { mix(base ^ salt) % (r.jitter + 1) };
         let arrival = ready + self.hop * (c + 1) + r.delay + jitter(0x6a69);
         let duplicate =
-            (r.dup > 0.0 && unit(mix(base ^ 0x6475_70)) < r.dup).then(|| arrival + self.hop + jitter(0x6475_7032));
+            (r.dup > 0.0 && unit(mix(base ^ 0x0064_7570)) < r.dup).then(|| arrival + self.hop + jitter(0x6475_7032));
         Fate { arrival: Some(arrival), duplicate, lost }
     }
 }
@@ -182,7 +182,7 @@ mod tests {
         assert!((lost2 as f64 / n as f64 - 0.09).abs() < 0.015, "{lost2}");
         for s in 0..1000 {
             if let Some(a) = m.fate(0, s, 1, 0, 3).arrival {
-                assert!(a >= 1005 && a <= 3105, "{a}");
+                assert!((1005..=3105).contains(&a), "{a}");
             }
         }
         let perfect = Medium::new(7, Radio::default(), 1000, 2.0, 4);
