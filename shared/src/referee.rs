@@ -1,14 +1,11 @@
-//! The physical side of a round, shared by the in-process engine and the
-//! world-server: where every robot really is, what its sensors and radio
-//! report, executing all moves at once, counting collisions, and simulated
-//! time. It never decides for a robot.
+//! The bodies' side of a slot, for the world ([`crate::sim`]): where every
+//! robot really is, what its sonar and laser report, executing all moves at
+//! once and counting collisions. It never decides for a robot.
 
 use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
-use crate::grid::{Grid, VertexId, NONE};
+use crate::grid::{VertexId, NONE};
 use crate::lattice::Coord;
-use crate::map::RobotId;
-use crate::params::Params;
 use crate::world::World;
 
 const EMPTY: u16 = u16::MAX;
@@ -23,44 +20,6 @@ pub struct RoundReport {
     /// Whether any robot had to rotate, and whether any translated.
     pub rotated: bool,
     pub translated: bool,
-}
-
-/// Simulated duration of a round (READING.md "Time"): the longest chain of
-/// waiting in step 5, a rotation if any robot turns, a translation if any
-/// robot moves, and one extra move time per collision (the paper's RU penalty).
-pub fn round_time(params: &Params, chain: u32, report: &RoundReport) -> f64 {
-    let mut t = chain as f64 * params.t_choice;
-    if report.rotated {
-        t += params.t_rot;
-    }
-    if report.translated {
-        t += params.t_trans;
-    }
-    t + report.collisions as f64 * params.move_time()
-}
-
-/// Sorts `order` into step 4's order: highest priority first (ties, which
-/// only particles sharing a vertex can have, by robot id).
-pub fn priority_order(grid: &Grid, pos: &[VertexId], order: &mut [usize]) {
-    order.sort_unstable_by_key(|&k| (std::cmp::Reverse(grid.priority_key(pos[k])), k));
-}
-
-/// The longest chain of waiting in step 5: robot `k` waits for every
-/// higher-priority neighbour, so its turn is one after the latest of theirs.
-/// `order` must be in [`priority_order`]; `chain` is scratch space.
-pub fn longest_wait_chain(grid: &Grid, pos: &[VertexId], neighbours: &[Vec<RobotId>], order: &[usize], chain: &mut [u32]) -> u32 {
-    let mut longest = 0;
-    for &k in order {
-        let key = grid.priority_key(pos[k]);
-        chain[k] = 1;
-        for &j in &neighbours[k] {
-            if grid.priority_key(pos[j as usize]) > key {
-                chain[k] = chain[k].max(chain[j as usize] + 1);
-            }
-        }
-        longest = longest.max(chain[k]);
-    }
-    longest
 }
 
 /// Ground truth of robot positions on the grid.
@@ -133,20 +92,6 @@ impl<'w> Referee<'w> {
             self.found.set(t as usize);
         }
         ts
-    }
-
-    /// Radio: the robots within `r_c` of `robot`, in id order, into `out`.
-    /// `alive` filters robots that are gone (a dead process has no radio).
-    pub fn radio(&self, robot: usize, alive: impl Fn(usize) -> bool, out: &mut Vec<RobotId>) {
-        out.clear();
-        let grid = &self.world.grid;
-        let p = grid.position(self.pos[robot]);
-        let rc2 = self.world.params.r_c * self.world.params.r_c;
-        for (k, &v) in self.pos.iter().enumerate() {
-            if k != robot && alive(k) && (grid.position(v) - p).norm_squared() <= rc2 {
-                out.push(k as RobotId);
-            }
-        }
     }
 
     /// Step 6 for everyone at once: every robot goes to `next[k]` (its own
