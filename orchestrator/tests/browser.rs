@@ -56,7 +56,9 @@ fn chromium() -> PathBuf {
 }
 
 /// Runs chromium headless on `url` with a fresh profile in `work`, killing
-/// it if it hangs. Returns stdout.
+/// it if it hangs. Returns stdout. Its shared memory goes to the profile
+/// (`--disable-dev-shm-usage` with `TMPDIR` there), removed with it: chromium
+/// leaves files in /dev/shm otherwise.
 fn headless(work: &Path, extra: &[String], url: &str) -> String {
     let profile = work.join(format!("profile-{}", std::process::id()));
     let _ = fs::remove_dir_all(&profile);
@@ -73,7 +75,9 @@ fn headless(work: &Path, extra: &[String], url: &str) -> String {
         "--disable-sync",
         "--hide-scrollbars",
         "--window-size=1200,900",
+        "--disable-dev-shm-usage",
     ])
+    .env("TMPDIR", &profile)
     .arg(format!("--user-data-dir={}", profile.display()))
     .args(extra)
     .arg(url)
