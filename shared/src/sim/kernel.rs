@@ -91,7 +91,6 @@ struct Bot<P> {
     halted: bool,
     listen: bool,
     alarm_gen: u64,
-    alarm_due: bool,
     tick_due: bool,
     marked: bool,
     react_pending: bool,
@@ -153,7 +152,6 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 halted: false,
                 listen: false,
                 alarm_gen: 0,
-                alarm_due: false,
                 tick_due: false,
                 marked: false,
                 react_pending: false,
@@ -263,12 +261,10 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 }
             }
             Ev::Alarm { robot, gen } => {
-                let b = &mut self.bots[robot as usize];
-                if b.alarm_gen == gen && b.body != Body::Dead {
-                    b.alarm_due = true;
-                    if b.body == Body::Running {
-                        self.mark(robot as usize);
-                    }
+                let b = &self.bots[robot as usize];
+                // A frozen robot's alarm is lost: its thaw wakes it anyway.
+                if b.alarm_gen == gen && b.body == Body::Running {
+                    self.mark(robot as usize);
                 }
             }
             Ev::Fault(i) => {
@@ -436,7 +432,6 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 robot: r,
                 now: self.now,
                 tick,
-                alarm: std::mem::take(&mut b.alarm_due),
                 frames: std::mem::take(&mut b.pending),
             });
             ids.push(r);

@@ -80,8 +80,6 @@ pub struct WakeCall<P> {
     pub now: Time,
     /// The readings of a slot the robot has not seen yet.
     pub tick: Option<Tick>,
-    /// Its alarm went off.
-    pub alarm: bool,
     /// Frames that reached it since it last woke, in arrival order.
     pub frames: Vec<Delivery<P>>,
 }
