@@ -207,16 +207,16 @@ impl<'g> Peer<'g> {
                 // committed) first: they say where its neighbours went.
                 let (old, new): (Vec<_>, Vec<_>) = frames.into_iter().partition(|(_, f)| f.round() < t.round);
                 for (from, f) in old {
-                    self.on_frame(from, f, out);
+                    self.on_frame(now, from, f, out);
                 }
                 self.start_slot(now, t, out);
                 for (from, f) in new {
-                    self.on_frame(from, f, out);
+                    self.on_frame(now, from, f, out);
                 }
             }
             None => {
                 for (from, f) in frames {
-                    self.on_frame(from, f, out);
+                    self.on_frame(now, from, f, out);
                 }
             }
         }
@@ -359,7 +359,7 @@ impl<'g> Peer<'g> {
         self.expected = next;
     }
 
-    fn on_frame(&mut self, from: RobotId, f: &Frame, out: &mut Output<Frame>) {
+    fn on_frame(&mut self, now: Time, from: RobotId, f: &Frame, out: &mut Output<Frame>) {
         if f.from() != from {
             out.notes.push(Note::Malformed);
             return;
@@ -368,7 +368,7 @@ impl<'g> Peer<'g> {
             return;
         }
         if let Frame::Flood { targets, stop, .. } = f {
-            self.on_flood(targets, *stop, out);
+            self.on_flood(now, targets, *stop, out);
             return;
         }
         if f.round() != self.round {
@@ -449,7 +449,7 @@ impl<'g> Peer<'g> {
     }
 
     /// A flood: targets and the stop, relayed once, whatever the round.
-    fn on_flood(&mut self, targets: &[u32], stop: bool, out: &mut Output<Frame>) {
+    fn on_flood(&mut self, now: Time, targets: &[u32], stop: bool, out: &mut Output<Frame>) {
         let robot = self.robot.as_mut().expect("checked");
         let new: Vec<u32> = targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();
         robot.learn_targets(&new);
@@ -463,8 +463,7 @@ impl<'g> Peer<'g> {
         }
         if !new.is_empty() || new_stop {
             let f = Frame::Flood { round: self.round, from: self.id(), targets: new, stop: new_stop };
-            // Relayed as soon as heard: `now` is not known here, the wake-up time is.
-            out.send.push(Transmit { payload: f, ready: 0, copies: self.cfg.timing.copies });
+            self.send(out, f, now);
         }
     }
 
