@@ -12,7 +12,7 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::robots::compress;
-use crate::stats::CellStats;
+use crate::stats::{CellStats, RunRecord};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -63,15 +63,67 @@ struct Cell {
     ci: f64,
 }
 
+/// How a slower-claimed algorithm compares with a faster-claimed one at one
+/// robot count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Cmp {
+    /// Slower beyond the 95% interval of the difference: the claim's way.
+    Slower,
+    /// The difference lies inside the interval: a tie, neither way.
+    Tie,
+    /// Faster beyond the interval: the claim is reversed.
+    Faster,
+}
+
+impl Cmp {
+    fn word(self) -> &'static str {
+        match self {
+            Cmp::Slower => "holds",
+            Cmp::Tie => "tie",
+            Cmp::Faster => "fails",
+        }
+    }
+}
+
+/// The mean difference slow - fast and its 95% half-width, paired run by
+/// run when both cells have per-run times (the sweep's runs share seeds
+/// across algorithms), else from the two cells' own intervals.
+#[derive(Clone, Copy, Debug)]
+struct Diff {
+    mean: f64,
+    ci: f64,
+    /// Runs paired; 0 when the comparison was not paired.
+    paired: usize,
+}
+
+impl Diff {
+    fn cmp(self) -> Cmp {
+        if self.mean > self.ci {
+            Cmp::Slower
+        } else if self.mean < -self.ci {
+            Cmp::Faster
+        } else {
+            Cmp::Tie
+        }
+    }
+}
+
 /// Cells with at least one completed run, by (algorithm, robots).
 struct Table {
     cells: HashMap<(Policy, usize), Cell>,
+    /// Search time of each run by run index, `None` when it did not complete.
+    times: HashMap<(Policy, usize), Vec<Option<f64>>>,
     /// Every robot count with at least one such cell, ascending.
     counts: Vec<usize>,
 }
 
 impl Table {
-    fn new(cells: &[CellStats]) -> Self {
+    fn new(cells: &[CellStats], runs: &[&[RunRecord]]) -> Self {
+        let mut times = HashMap::new();
+        for (c, rs) in cells.iter().zip(runs) {
+            let t = rs.iter().map(|r| r.complete.then_some(r.search_time_s)).collect();
+            times.insert((c.algorithm, c.robots), t);
+        }
         let cells: HashMap<(Policy, usize), Cell> = cells
             .iter()
             .filter_map(|c| {
@@ -79,7 +131,7 @@ impl Table {
             })
             .collect();
         let counts: BTreeSet<usize> = cells.keys().map(|&(_, r)| r).collect();
-        Table { cells, counts: counts.into_iter().collect() }
+        Table { cells, times, counts: counts.into_iter().collect() }
     }
 
     fn has(&self, p: Policy, r: usize) -> bool {
@@ -94,17 +146,30 @@ impl Table {
     fn counts_of(&self, p: Policy) -> Vec<usize> {
         self.counts.iter().copied().filter(|&r| self.has(p, r)).collect()
     }
+
+    /// `slow` against `fast` at `r` robots; only called after [`Table::has`]
+    /// for both.
+    fn diff(&self, slow: Policy, fast: Policy, r: usize) -> Diff {
+        if let (Some(a), Some(b)) = (self.times.get(&(slow, r)), self.times.get(&(fast, r))) {
+            let d: Vec<f64> = a.iter().zip(b).filter_map(|(x, y)| Some((*x)? - (*y)?)).collect();
+            if d.len() >= 2 {
+                let n = d.len() as f64;
+                let mean = d.iter().sum::<f64>() / n;
+                let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+                return Diff { mean, ci: 1.96 * (var / n).sqrt(), paired: d.len() };
+            }
+        }
+        let (s, f) = (self.at(slow, r), self.at(fast, r));
+        Diff { mean: s.mean - f.mean, ci: (s.ci * s.ci + f.ci * f.ci).sqrt(), paired: 0 }
+    }
 }
 
-/// Whether `slow` is slower than `fast` by more than the 95% interval of the
-/// difference of two independent means.
-fn significant(slow: Cell, fast: Cell) -> bool {
-    slow.mean - fast.mean > (slow.ci * slow.ci + fast.ci * fast.ci).sqrt()
-}
-
-/// Evaluates the three claims on a sweep's cells.
-pub fn evaluate(cells: &[CellStats]) -> Vec<ClaimResult> {
-    let t = Table::new(cells);
+/// Evaluates the three claims on a sweep's cells; `runs[i]` are the runs of
+/// `cells[i]` by run index (empty when unknown: comparisons are then
+/// unpaired). A difference inside the 95% interval of its comparison is a
+/// tie, which neither upholds nor breaks an ordering claim.
+pub fn evaluate(cells: &[CellStats], runs: &[&[RunRecord]]) -> Vec<ClaimResult> {
+    let t = Table::new(cells, runs);
     let present: Vec<Policy> = {
         let mut v: Vec<Policy> = Vec::new();
         for c in cells {
@@ -131,8 +196,11 @@ fn not_evaluated(id: &'static str, statement: &'static str, criterion: &'static 
 fn ordering(t: &Table, present: &[Policy]) -> ClaimResult {
     const ID: &str = "a";
     const STATEMENT: &str = "generally LFP > RU > (1)&(3) > (1),(2)&(3) in mean search time";
-    const CRITERION: &str = "holds when the full ordering holds (strictly, on the means) at more than half of the \
-                             robot counts with completed runs of all four algorithms";
+    const CRITERION: &str = "at a robot count with completed runs of all four algorithms, the ordering holds when no \
+                             neighbouring pair is reversed beyond the 95% interval of its difference (paired run by run \
+                             over the runs both completed; a difference inside the interval is a tie) and at least one \
+                             pair is in order beyond it; the claim holds when the ordering holds at more than half of \
+                             the robot counts where not every pair tied";
     let missing: Vec<&str> = ORDER.iter().filter(|p| !present.contains(p)).map(|p| p.name()).collect();
     if !missing.is_empty() {
         return not_evaluated(ID, STATEMENT, CRITERION, format!("  the sweep lacks {}", missing.join(", ")));
@@ -150,63 +218,84 @@ fn ordering(t: &Table, present: &[Policy]) -> ClaimResult {
     let mut lines = Vec::new();
     let mut per_count = Vec::new();
     let mut full_holds = Vec::new();
+    let mut all_tied = Vec::new();
     for &r in &full_counts {
         let m: Vec<f64> = ORDER.iter().map(|&p| t.at(p, r).mean).collect();
-        let broken: Vec<String> = ORDER
-            .windows(2)
-            .zip(m.windows(2))
-            .filter(|(_, mm)| mm[0] <= mm[1])
-            .map(|(pp, _)| format!("{} <= {}", pp[0].paper_label(), pp[1].paper_label()))
-            .collect();
-        let holds = broken.is_empty();
-        if holds {
+        let cmps: Vec<Cmp> = ORDER.windows(2).map(|w| t.diff(w[0], w[1], r).cmp()).collect();
+        let named = |want: Cmp, sep: &str| -> Vec<String> {
+            ORDER
+                .windows(2)
+                .zip(&cmps)
+                .filter(|(_, &c)| c == want)
+                .map(|(pp, _)| format!("{} {sep} {}", pp[0].paper_label(), pp[1].paper_label()))
+                .collect()
+        };
+        let (broken, ties) = (named(Cmp::Faster, "<"), named(Cmp::Tie, "~"));
+        let undecided = cmps.iter().all(|&c| c == Cmp::Tie);
+        let holds = broken.is_empty() && !undecided;
+        if undecided {
+            all_tied.push(r);
+        } else if holds {
             full_holds.push(r);
         }
         let values: Vec<String> = ORDER.iter().zip(&m).map(|(p, v)| format!("{} {v:.1}", p.paper_label())).collect();
-        lines.push(format!(
-            "  {r:>3} robot{}: {}  {}",
-            if r == 1 { " " } else { "s" },
-            values.join(" | "),
-            if holds { "ordering holds".to_string() } else { format!("fails: {}", broken.join(", ")) }
-        ));
-        per_count.push(json!({ "robots": r, "means_s": ORDER.iter().zip(&m).map(|(p, v)| (p.name(), *v)).collect::<BTreeMap<_, _>>(), "holds": holds }));
+        let verdict = match (holds, ties.is_empty()) {
+            _ if undecided => "every pair tied: no evidence either way".to_string(),
+            (true, true) => "ordering holds".to_string(),
+            (true, false) => format!("ordering holds, ties {}", ties.join(", ")),
+            (false, _) => format!("fails: {}", broken.join(", ")),
+        };
+        lines.push(format!("  {r:>3} robot{}: {}  {verdict}", if r == 1 { " " } else { "s" }, values.join(" | ")));
+        per_count.push(json!({
+            "robots": r,
+            "means_s": ORDER.iter().zip(&m).map(|(p, v)| (p.name(), *v)).collect::<BTreeMap<_, _>>(),
+            "holds": holds,
+            "ties": ties,
+        }));
     }
+    let decided = full_counts.len() - all_tied.len();
     lines.push(format!(
-        "  full ordering holds at {}/{} robot counts ({})",
+        "  full ordering holds at {}/{} robot counts ({}){}",
         full_holds.len(),
-        full_counts.len(),
-        if full_holds.is_empty() { "none".to_string() } else { compress(&full_holds) }
+        decided,
+        if full_holds.is_empty() { "none".to_string() } else { compress(&full_holds) },
+        if all_tied.is_empty() { String::new() } else { format!("; every pair tied at {}, not counted", compress(&all_tied)) }
     ));
     let mut pairs = Vec::new();
     for w in ORDER.windows(2) {
         let (slow, fast) = (w[0], w[1]);
         let both: Vec<usize> = counts.iter().copied().filter(|&r| t.has(slow, r) && t.has(fast, r)).collect();
-        let holds = both.iter().filter(|&&r| t.at(slow, r).mean > t.at(fast, r).mean).count();
-        let sig = both.iter().filter(|&&r| significant(t.at(slow, r), t.at(fast, r))).count();
+        let of = |c: Cmp| both.iter().filter(|&&r| t.diff(slow, fast, r).cmp() == c).count();
+        let (holds, ties, reversed) = (of(Cmp::Slower), of(Cmp::Tie), of(Cmp::Faster));
         lines.push(format!(
-            "  {} > {}: at {holds}/{} robot counts ({:.2}); beyond the 95% interval of the difference at {sig}",
+            "  {} > {}: at {holds}/{} robot counts, tied at {ties}, reversed at {reversed} (95% interval of the difference)",
             slow.paper_label(),
             fast.paper_label(),
             both.len(),
-            holds as f64 / both.len().max(1) as f64
         ));
-        pairs.push(json!({ "slower": slow.name(), "faster": fast.name(), "counts": both.len(), "holds": holds, "significant": sig }));
+        pairs.push(json!({ "slower": slow.name(), "faster": fast.name(), "counts": both.len(), "holds": holds, "ties": ties, "reversed": reversed }));
     }
-    let verdict = if 2 * full_holds.len() > full_counts.len() { Verdict::Holds } else { Verdict::Fails };
+    let verdict = match decided {
+        0 => Verdict::NotEvaluated,
+        d if 2 * full_holds.len() > d => Verdict::Holds,
+        _ => Verdict::Fails,
+    };
     ClaimResult {
         id: ID,
         statement: STATEMENT,
         criterion: CRITERION,
         verdict,
         lines,
-        data: json!({ "robot_counts": full_counts, "full_ordering_holds_at": full_holds, "per_count": per_count, "pairs": pairs }),
+        data: json!({ "robot_counts": full_counts, "full_ordering_holds_at": full_holds, "all_tied_at": all_tied, "per_count": per_count, "pairs": pairs }),
     }
 }
 
 fn ru_slower(t: &Table, present: &[Policy]) -> ClaimResult {
     const ID: &str = "b";
     const STATEMENT: &str = "RU > LFP in mean search time for 9 to 13 robots";
-    const CRITERION: &str = "holds when RU's mean exceeds LFP's at every robot count from 9 to 13 in the sweep";
+    const CRITERION: &str = "holds when RU is nowhere faster than LFP beyond the 95% interval of the difference (paired \
+                             run by run) at the robot counts from 9 to 13 in the sweep, and slower beyond it at least at \
+                             one; a difference inside the interval is a tie";
     let missing: Vec<&str> =
         [Policy::Ru, Policy::Lfp].iter().filter(|p| !present.contains(p)).map(|p| p.name()).collect();
     if !missing.is_empty() {
@@ -224,34 +313,36 @@ fn ru_slower(t: &Table, present: &[Policy]) -> ClaimResult {
     }
     let mut lines = Vec::new();
     let mut per_count = Vec::new();
-    let mut held = 0;
+    let (mut held, mut tied) = (0, 0);
     for &r in &counts {
         let (ru, lfp) = (t.at(Policy::Ru, r), t.at(Policy::Lfp, r));
-        let holds = ru.mean > lfp.mean;
-        held += usize::from(holds);
-        let sig = if holds { significant(ru, lfp) } else { significant(lfp, ru) };
+        let d = t.diff(Policy::Ru, Policy::Lfp, r);
+        let c = d.cmp();
+        held += usize::from(c == Cmp::Slower);
+        tied += usize::from(c == Cmp::Tie);
         lines.push(format!(
-            "  {r:>3} robot{}: RU {:.1} vs LFP {:.1} (RU - LFP = {:+.1} s{}): {}",
+            "  {r:>3} robot{}: RU {:.1} vs LFP {:.1} (RU - LFP = {:+.1} +- {:.1} s): {}",
             if r == 1 { "" } else { "s" },
             ru.mean,
             lfp.mean,
-            ru.mean - lfp.mean,
-            if sig { ", beyond the 95% interval" } else { ", within the 95% interval" },
-            if holds { "holds" } else { "fails" }
+            d.mean,
+            d.ci,
+            c.word()
         ));
-        per_count.push(json!({ "robots": r, "ru_s": ru.mean, "lfp_s": lfp.mean, "holds": holds, "significant": sig }));
+        per_count.push(json!({ "robots": r, "ru_s": ru.mean, "lfp_s": lfp.mean, "diff_s": d.mean, "ci95_s": d.ci, "paired_runs": d.paired, "outcome": c.word() }));
     }
     if counts.len() < RU_SLOWER_TO - RU_SLOWER_FROM + 1 {
         lines.push(format!("  only robot counts {} of 9-13 are in the sweep", compress(&counts)));
     }
-    lines.push(format!("  holds at {held}/{} robot counts", counts.len()));
+    lines.push(format!("  holds at {held}/{} robot counts, tied at {tied}", counts.len()));
+    let reversed = counts.len() - held - tied;
     ClaimResult {
         id: ID,
         statement: STATEMENT,
         criterion: CRITERION,
-        verdict: if held == counts.len() { Verdict::Holds } else { Verdict::Fails },
+        verdict: if reversed == 0 && held > 0 { Verdict::Holds } else { Verdict::Fails },
         lines,
-        data: json!({ "per_count": per_count, "holds_at": held, "counts": counts.len() }),
+        data: json!({ "per_count": per_count, "holds_at": held, "ties": tied, "counts": counts.len() }),
     }
 }
 
@@ -392,14 +483,14 @@ mod tests {
 
     #[test]
     fn paperlike_table_passes_all() {
-        let c = evaluate(&paperlike());
+        let c = evaluate(&paperlike(), &[]);
         let text = render(&c);
         assert_eq!(by_id(&c, "a").verdict, Verdict::Holds, "{text}");
         assert_eq!(by_id(&c, "b").verdict, Verdict::Holds, "{text}");
         assert_eq!(by_id(&c, "c").verdict, Verdict::Holds, "{text}");
         assert!(text.contains("full ordering holds at 8/13"), "{text}");
-        assert!(text.contains("LFP > RU: at 8/13 robot counts (0.62)"), "{text}");
-        assert!(text.contains("holds at 5/5 robot counts"), "{text}");
+        assert!(text.contains("LFP > RU: at 8/13 robot counts, tied at 0, reversed at 5"), "{text}");
+        assert!(text.contains("holds at 5/5 robot counts, tied at 0"), "{text}");
         assert!(text.contains("holds for 4/4 algorithms"), "{text}");
     }
 
@@ -411,7 +502,7 @@ mod tests {
                 c.mean_search_time_s = Some(c.mean_search_time_s.unwrap() + 30.0 * c.robots as f64);
             }
         }
-        let c = evaluate(&v);
+        let c = evaluate(&v, &[]);
         assert_eq!(by_id(&c, "c").verdict, Verdict::Fails, "{}", render(&c));
         assert!(render(&c).contains("the last third rises"));
     }
@@ -424,10 +515,10 @@ mod tests {
                 c.mean_search_time_s = Some(c.mean_search_time_s.unwrap() * 10.0);
             }
         }
-        let c = evaluate(&v);
+        let c = evaluate(&v, &[]);
         let a = by_id(&c, "a");
         assert_eq!(a.verdict, Verdict::Fails);
-        assert!(render(&c).contains("(1)&(3) > (1),(2)&(3): at 0/13"));
+        assert!(render(&c).contains("(1)&(3) > (1),(2)&(3): at 0/13 robot counts, tied at 0, reversed at 13"), "{}", render(&c));
     }
 
     #[test]
@@ -438,16 +529,54 @@ mod tests {
                 c.mean_search_time_s = Some(1.0);
             }
         }
-        let c = evaluate(&v);
+        let c = evaluate(&v, &[]);
         assert_eq!(by_id(&c, "b").verdict, Verdict::Fails);
         assert!(by_id(&c, "b").lines.iter().any(|l| l.contains("11 robots") && l.ends_with("fails")));
+    }
+
+    fn runs(times: &[f64]) -> Vec<RunRecord> {
+        let run = |&t: &f64| RunRecord { seed: 0, search_time_s: t, rounds: 1, collisions: 0, targets_found: 1, complete: true };
+        times.iter().map(run).collect()
+    }
+
+    #[test]
+    fn paired_differences_inside_the_interval_are_ties() {
+        // RU is 1 s slower than LFP on average at 9-13 robots, but by +-40 s
+        // from run to run: paired, that is a tie, not a holding claim, and
+        // not a failure either.
+        let mut v = paperlike();
+        let mut per_run: Vec<Vec<f64>> = Vec::new();
+        for c in &mut v {
+            let m = c.mean_search_time_s.unwrap();
+            let noise = |k: usize| if k % 2 == 0 { 40.0 } else { -40.0 };
+            let t: Vec<f64> = if c.algorithm == Policy::Ru && c.robots >= 9 {
+                (0..10).map(|k| 500.0 + noise(k) + 1.0).collect()
+            } else if c.algorithm == Policy::Lfp && c.robots >= 9 {
+                (0..10).map(|k| 500.0 + if k % 4 < 2 { 0.0 } else { 0.5 }).collect()
+            } else {
+                vec![m; 10]
+            };
+            c.mean_search_time_s = Some(t.iter().sum::<f64>() / 10.0);
+            per_run.push(t);
+        }
+        let recs: Vec<Vec<RunRecord>> = per_run.iter().map(|t| runs(t)).collect();
+        let refs: Vec<&[RunRecord]> = recs.iter().map(|r| r.as_slice()).collect();
+        let c = evaluate(&v, &refs);
+        let b = by_id(&c, "b");
+        assert!(b.lines.iter().filter(|l| l.ends_with(": tie")).count() == 5, "{}", render(&c));
+        assert_eq!(b.verdict, Verdict::Fails, "all ties do not uphold the claim: {}", render(&c));
+        // Identical runs (one robot: RU and (1)&(3) coincide) tie exactly.
+        let same = runs(&[10.0, 20.0, 30.0]);
+        let t = Table::new(&[cell(Policy::Ru, 1, 20.0), cell(Policy::Sequential, 1, 20.0)], &[&same, &same]);
+        let d = t.diff(Policy::Ru, Policy::Sequential, 1);
+        assert_eq!((d.cmp(), d.paired), (Cmp::Tie, 3));
     }
 
     #[test]
     fn linear_fall_fails_c() {
         // Linear: the same drop per robot everywhere, so not "sharp then slow".
         let v: Vec<CellStats> = (1..=13).map(|r| cell(Policy::Repulsive, r, 1000.0 - 50.0 * r as f64)).collect();
-        let c = evaluate(&v);
+        let c = evaluate(&v, &[]);
         let cc = by_id(&c, "c");
         assert_eq!(cc.verdict, Verdict::Fails, "{}", render(&c));
         assert!(cc.lines[0].contains("1->5 robots falls 50.0 s/robot; 9->13 robots falls 50.0"), "{}", cc.lines[0]);
@@ -459,7 +588,7 @@ mod tests {
         // counts 9-13, (c) has too few counts for thirds.
         let v: Vec<CellStats> =
             (1..=3).flat_map(|r| [cell(Policy::Ru, r, 10.0 / r as f64), cell(Policy::Lfp, r, 20.0)]).collect();
-        let c = evaluate(&v);
+        let c = evaluate(&v, &[]);
         for id in ["a", "b"] {
             assert_eq!(by_id(&c, id).verdict, Verdict::NotEvaluated, "{id}");
         }
@@ -479,7 +608,7 @@ mod tests {
                 c.mean_search_time_s = None;
             }
         }
-        let c = evaluate(&v);
+        let c = evaluate(&v, &[]);
         assert!(render(&c).contains("full ordering holds at 7/12"), "{}", render(&c));
     }
 }

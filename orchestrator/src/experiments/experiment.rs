@@ -117,7 +117,8 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         .zip(records.chunks(plan.runs))
         .map(|((_, robots), c)| c.iter().map(|x| x.rounds as u64 * robots as u64).sum::<u64>())
         .sum();
-    let claims = claims::evaluate(&cells);
+    let per_cell: Vec<&[RunRecord]> = records.chunks(plan.runs).collect();
+    let claims = claims::evaluate(&cells, &per_cell);
     let claims_text = incomplete_note(&cells, opts.max_rounds) + &claims::render(&claims);
     let setup = format!(
         "scenario {} ({} grid), situation {}, {} runs per cell, base seed {}, max {} rounds\n\
@@ -232,7 +233,7 @@ impl Plan<'_> {
         let records = jobs
             .par_iter()
             .map(|&(a, r, k)| {
-                let seed = run_seed(opts.seed, self.algorithms[a], self.robots[r], k as u64);
+                let seed = run_seed(opts.seed, self.robots[r], k as u64);
                 let mut cfg = RunConfig::new(self.algorithms[a], seed, situation);
                 cfg.max_rounds = opts.max_rounds;
                 // The sweep keeps numbers only: no poses, no raster pass.

@@ -9,6 +9,8 @@
 //! the same starts and the same draws of the decision core (paired runs);
 //! the radio's own draws depend on the seed and the transmission only.
 
+// The seed of a run is the sweep's, the same for every loss and retries.
+use crate::seeds::run_seed;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::str::FromStr;
@@ -16,7 +18,6 @@ use std::time::Instant;
 
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
-use gridswarm::rng::derive;
 use gridswarm::sim::Radio;
 use serde_json::json;
 
@@ -94,10 +95,6 @@ pub struct RadioOptions {
     pub progress: bool,
 }
 
-/// The seed of run `run` with `robots` robots, the same for every loss and retries.
-pub fn run_seed(base: u64, robots: usize, run: u32) -> u64 {
-    derive(derive(base, robots as u64), u64::from(run))
-}
 
 /// One point of the experiment.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -234,7 +231,7 @@ fn jobs(opts: &RadioOptions, runs: u32) -> Vec<(Point, u32, Job)> {
     let mut out = Vec::new();
     for p in points(opts) {
         for r in 0..runs {
-            let seed = run_seed(opts.seed, p.robots, r);
+            let seed = run_seed(opts.seed, p.robots, u64::from(r));
             let plan = FaultPlan { radio: Radio { loss: p.loss, ..Radio::default() }, retries: Some(p.retries), ..FaultPlan::default() };
             let what = format!("run {r}, loss {}, {} robots, {} retries, seed {seed}", p.loss, p.robots, p.retries);
             out.push((p, r, Job { robots: p.robots, seed, plan, what }));
@@ -431,7 +428,7 @@ mod tests {
         };
         let j = jobs(&opts, 2);
         assert_eq!(j.len(), 8);
-        assert!(j.iter().all(|(_, r, job)| job.seed == run_seed(5, 3, *r)));
+        assert!(j.iter().all(|(_, r, job)| job.seed == run_seed(5, 3, u64::from(*r))));
         assert_eq!(j[7].2.plan.radio.loss, 0.2);
         assert_eq!(j[7].2.plan.retries, Some(1));
         let row = RadioRow { point: j[0].0, stats: ProtoStats::of(&[ProtoRun::default()]) };

@@ -6,6 +6,7 @@
 //! Runs are sequential (each distributed run already uses every core). Run
 //! `r` with `N` robots has seed `derive(derive(seed, N), r)`.
 
+use crate::seeds::run_seed;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -14,7 +15,6 @@ use std::time::{Duration, Instant};
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
-use gridswarm::rng::derive;
 use gridswarm::scenario::Scenario;
 use gridswarm::world::World;
 use serde_json::{json, Value};
@@ -51,9 +51,6 @@ pub struct ScaleOptions {
     pub progress: bool,
 }
 
-pub fn run_seed(base: u64, robots: usize, run: u32) -> u64 {
-    derive(derive(base, robots as u64), u64::from(run))
-}
 
 /// The scenario of a robot count.
 pub fn scenario_for(opts: &ScaleOptions, robots: usize) -> String {
@@ -382,7 +379,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         let name = scenario_for(opts, n);
         let (scenario, world) = &worlds[&name];
         for r in 0..opts.runs {
-            let seed = run_seed(opts.seed, n, r);
+            let seed = run_seed(opts.seed, n, u64::from(r));
             let ro = RunOptions::for_experiment(
                 name.clone(),
                 opts.algorithm,
