@@ -3,9 +3,20 @@
 
 use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Bitset {
     words: Vec<u64>,
+}
+
+impl Clone for Bitset {
+    fn clone(&self) -> Self {
+        Bitset { words: self.words.clone() }
+    }
+
+    // Maps sent every slot are copied into recycled ones: no allocation.
+    fn clone_from(&mut self, source: &Self) {
+        self.words.clone_from(&source.words);
+    }
 }
 
 impl Bitset {

@@ -7,13 +7,14 @@
 use std::rc::Rc;
 
 use crate::grid::VertexId;
+use crate::map::Map;
 use crate::lfp::{self, LfpParams};
 use crate::outcome::{RunConfig, RunResult};
 use crate::peer::Peer;
 use crate::policy::Policy;
 use crate::protocol::Frame;
 use crate::setup::RobotSetup;
-use crate::sim::{Kernel, Output, Robots, Transmit, WakeCall};
+use crate::sim::{Delivery, Kernel, Output, Robots, Transmit, WakeCall};
 use crate::world::World;
 
 /// Side of a raster cell for the detected fraction, in units of `a`.
@@ -40,7 +41,7 @@ pub fn run_with_lfp(world: &World, starts: &[VertexId], cfg: &RunConfig, lfp: &L
 
 fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
     let peers = (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
-    let mut local = Local { peers, out: Output::default() };
+    let mut local = Local { peers, out: Output::default(), maps: Vec::new() };
     Kernel::new(world, starts, cfg).run(&mut local)
 }
 
@@ -48,23 +49,42 @@ fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
 struct Local<'g> {
     peers: Vec<Peer<'g>>,
     out: Output<Frame>,
+    /// Maps of `Map` frames every receiver has read, for the peers to copy
+    /// their next maps into: a map a robot a slot, without allocating.
+    maps: Vec<Map>,
 }
 
 impl Robots for Local<'_> {
     type Payload = Rc<Frame>;
 
     fn wake(&mut self, calls: &mut [WakeCall<Rc<Frame>>], outputs: &mut Vec<Option<Output<Rc<Frame>>>>) {
-        for call in calls.iter() {
+        outputs.resize_with(calls.len(), || None);
+        for (call, slot) in calls.iter().zip(outputs.iter_mut()) {
+            let peer = &mut self.peers[call.robot];
+            if call.tick.is_some() && peer.wants_map() {
+                if let Some(m) = self.maps.pop() {
+                    peer.offer_map(m);
+                }
+            }
             let frames = call.frames.iter().map(|d| (d.from, &*d.payload));
-            self.peers[call.robot].wake(call.now, call.tick.as_ref(), frames, &mut self.out);
-            let o = &mut self.out;
-            outputs.push(Some(Output {
-                send: o.send.drain(..).map(|t| Transmit { payload: Rc::new(t.payload), ready: t.ready, copies: t.copies }).collect(),
-                motor: o.motor,
-                alarm: o.alarm,
-                listen: o.listen,
-                notes: std::mem::take(&mut o.notes),
-            }));
+            peer.wake(call.now, call.tick.as_ref(), frames, &mut self.out);
+            let (o, into) = (&mut self.out, slot.get_or_insert_with(Output::default));
+            into.send.clear();
+            into.send.extend(o.send.drain(..).map(|t| Transmit { payload: Rc::new(t.payload), ready: t.ready, copies: t.copies }));
+            into.notes.clear();
+            into.notes.append(&mut o.notes);
+            (into.motor, into.alarm, into.listen) = (o.motor, o.alarm, o.listen);
+        }
+    }
+
+    fn reclaim(&mut self, frames: &mut Vec<Delivery<Rc<Frame>>>) {
+        for d in frames.drain(..) {
+            // The last reader of a map frame gives its map back.
+            if let Ok(Frame::Map { map, .. }) = Rc::try_unwrap(d.payload) {
+                if self.maps.len() < self.peers.len() {
+                    self.maps.push(map);
+                }
+            }
         }
     }
 }

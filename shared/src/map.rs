@@ -23,7 +23,7 @@ pub struct Failure {
     pub round: u32,
 }
 
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Map {
     /// Vertices some robot has stood on.
     pub visited: Bitset,
@@ -45,6 +45,32 @@ pub struct Map {
     /// heard alive again (a rejoin), sorted by robot. A failure counts only
     /// while its round is later than this.
     pub alive: Vec<(RobotId, u32)>,
+}
+
+impl Clone for Map {
+    fn clone(&self) -> Self {
+        let mut m = Map {
+            visited: Bitset::default(),
+            known: Bitset::default(),
+            open: Vec::new(),
+            targets: Bitset::default(),
+            failed: Vec::new(),
+            alive: Vec::new(),
+        };
+        m.clone_from(self);
+        m
+    }
+
+    /// Reuses this map's buffers: a robot sends a copy of its map every
+    /// slot, and the in-process engine hands it back recycled ones.
+    fn clone_from(&mut self, source: &Self) {
+        self.visited.clone_from(&source.visited);
+        self.known.clone_from(&source.known);
+        self.open.clone_from(&source.open);
+        self.targets.clone_from(&source.targets);
+        self.failed.clone_from(&source.failed);
+        self.alive.clone_from(&source.alive);
+    }
 }
 
 impl Map {

@@ -38,7 +38,7 @@
 use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId};
-use crate::map::RobotId;
+use crate::map::{Map, RobotId};
 use crate::params::{Params, Situation};
 use crate::policy::Policy;
 use crate::protocol::Frame;
@@ -152,6 +152,8 @@ pub struct Peer<'g> {
     silent: Vec<(VertexId, u32)>,
     /// A robot it expected to hear this slot stayed silent.
     missed_any: bool,
+    /// A map buffer to copy its map into for the next `Map` frame.
+    spare: Option<Map>,
 }
 
 impl<'g> Peer<'g> {
@@ -175,7 +177,20 @@ impl<'g> Peer<'g> {
             refusals: Vec::new(),
             silent: Vec::new(),
             missed_any: false,
+            spare: None,
         }
+    }
+
+    /// Whether it has no map buffer for its next `Map` frame.
+    pub fn wants_map(&self) -> bool {
+        self.spare.is_none()
+    }
+
+    /// A map buffer (contents irrelevant) for its next `Map` frame, so that
+    /// sending its map every slot need not allocate: the in-process engine
+    /// recycles the maps of frames every receiver has read.
+    pub fn offer_map(&mut self, map: Map) {
+        self.spare = Some(map);
     }
 
     pub fn id(&self) -> RobotId {
@@ -197,7 +212,7 @@ impl<'g> Peer<'g> {
         &mut self,
         now: Time,
         tick: Option<&Tick>,
-        frames: impl IntoIterator<Item = (RobotId, &'f Frame)>,
+        frames: impl IntoIterator<Item = (RobotId, &'f Frame), IntoIter: Clone>,
         out: &mut Output<Frame>,
     ) {
         out.clear();
@@ -205,12 +220,12 @@ impl<'g> Peer<'g> {
             Some(t) => {
                 // Frames of the slot that ended (heard after this robot
                 // committed) first: they say where its neighbours went.
-                let (old, new): (Vec<_>, Vec<_>) = frames.into_iter().partition(|(_, f)| f.round() < t.round);
-                for (from, f) in old {
+                let frames = frames.into_iter();
+                for (from, f) in frames.clone().filter(|(_, f)| f.round() < t.round) {
                     self.on_frame(now, from, f, out);
                 }
                 self.start_slot(now, t, out);
-                for (from, f) in new {
+                for (from, f) in frames.filter(|(_, f)| f.round() >= t.round) {
                     self.on_frame(now, from, f, out);
                 }
             }
@@ -302,7 +317,13 @@ impl<'g> Peer<'g> {
         // same with the maps already heard; its own map reaches the others
         // late, and those that hear it wait for its answer like any other's.
         let window_end = tick.start + self.cfg.timing.exchange;
-        let map = robot.map().clone();
+        let map = match self.spare.take() {
+            Some(mut m) => {
+                m.clone_from(robot.map());
+                m
+            }
+            None => robot.map().clone(),
+        };
         self.send(out, Frame::Map { round: tick.round, from: me, at: tick.at, halted, stop: self.stop_known, map }, now);
         if self.cfg.robot.situation == Situation::One {
             let new: Vec<u32> = tick.targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();

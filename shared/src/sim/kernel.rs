@@ -3,6 +3,7 @@
 //! in-process engine and the world-server run this same loop.
 
 use std::collections::BinaryHeap;
+use std::rc::Rc;
 
 use super::medium::Medium;
 use super::stats::{FailureRecord, ProtocolStats};
@@ -31,7 +32,7 @@ enum Ev<P> {
     SlotStart,
     Deliver { to: u32, d: Delivery<P> },
     /// A frame reaching several robots at once (a perfect radio).
-    Broadcast { to: Vec<u32>, d: Delivery<P> },
+    Broadcast { to: Rc<[u32]>, d: Delivery<P> },
     Alarm { robot: u32, gen: u64 },
     Fault(usize),
     /// A slow robot's delayed wake-up.
@@ -110,6 +111,9 @@ pub struct Kernel<'w, P> {
     cfg: &'w RunConfig,
     referee: Referee<'w>,
     medium: Medium,
+    /// Each robot's links of this slot, shared by its broadcasts (made on
+    /// its first broadcast of the slot).
+    links: Vec<Option<Rc<[u32]>>>,
     queue: Queue<P>,
     bots: Vec<Bot<P>>,
     marked: Vec<u32>,
@@ -168,6 +172,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             cfg,
             referee: Referee::new(world, starts),
             medium: Medium::new(cfg.seed, cfg.radio, micros(p.t_hop), p.r_c, n),
+            links: vec![None; n],
             queue: Queue::new(),
             bots,
             marked: Vec::with_capacity(n),
@@ -238,9 +243,9 @@ impl<'w, P: Clone> Kernel<'w, P> {
             if !calls.is_empty() {
                 self.stats.wakes += calls.len() as u64;
                 robots.wake(&mut calls, &mut outs);
-                self.recycle(&mut calls);
-                for (k, out) in outs.drain(..).enumerate() {
-                    self.apply(ids[k], out);
+                self.recycle(&mut calls, robots);
+                for (k, &id) in ids.iter().enumerate() {
+                    self.apply(id, outs.get_mut(k).and_then(Option::as_mut));
                 }
             }
             self.check_close();
@@ -256,7 +261,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             }
             Ev::Deliver { to, d } => self.deliver(to, d),
             Ev::Broadcast { to, d } => {
-                for t in to {
+                for &t in to.iter() {
                     self.deliver(t, d.clone());
                 }
             }
@@ -374,6 +379,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
         let grid = &self.world.grid;
         let positions: Vec<Point> = self.referee.positions().iter().map(|&v| grid.position(v)).collect();
         self.medium.relink(&positions);
+        self.links.iter_mut().for_each(|l| *l = None);
         for r in 0..self.bots.len() {
             let b = &mut self.bots[r];
             b.motor = None;
@@ -442,9 +448,10 @@ impl<'w, P: Clone> Kernel<'w, P> {
 
     /// Gives each robot back its emptied frame buffer, so that delivering
     /// does not allocate afresh every wake-up.
-    fn recycle(&mut self, calls: &mut Vec<WakeCall<P>>) {
+    fn recycle<R: Robots<Payload = P>>(&mut self, calls: &mut Vec<WakeCall<P>>, robots: &mut R) {
         for c in calls.drain(..) {
             let mut frames = c.frames;
+            robots.reclaim(&mut frames);
             frames.clear();
             let pending = &mut self.bots[c.robot].pending;
             if pending.is_empty() && frames.capacity() > pending.capacity() {
@@ -453,7 +460,9 @@ impl<'w, P: Clone> Kernel<'w, P> {
         }
     }
 
-    fn apply(&mut self, r: usize, out: Option<Output<P>>) {
+    /// Applies robot `r`'s output, emptying its `send` and `notes` (the
+    /// buffers stay with the robots' side for the next wake-up).
+    fn apply(&mut self, r: usize, out: Option<&mut Output<P>>) {
         let Some(out) = out else {
             self.may_close = true;
             // Its process is gone: physics, not a scheduled fault.
@@ -471,7 +480,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 now, self.round, out.send.len(), out.motor, out.alarm, out.listen, out.notes
             );
         }
-        for tx in out.send {
+        for tx in out.send.drain(..) {
             self.transmit(r, tx.payload, tx.ready.max(now), tx.copies);
         }
         if let Some((m, t)) = out.motor {
@@ -492,7 +501,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             let gen = b.alarm_gen;
             self.push(t.max(now), Ev::Alarm { robot: r as u32, gen });
         }
-        for note in out.notes {
+        for note in out.notes.drain(..) {
             self.note(r, note);
         }
     }
@@ -508,7 +517,8 @@ impl<'w, P: Clone> Kernel<'w, P> {
         let from = r as RobotId;
         if self.medium.radio().is_perfect() {
             // Every receiver hears it one hop later: one event for all.
-            let to = self.medium.links(r).to_vec();
+            let medium = &self.medium;
+            let to = self.links[r].get_or_insert_with(|| Rc::from(medium.links(r))).clone();
             if !to.is_empty() {
                 let at = ready + self.hop;
                 self.stats.deliveries += to.len() as u64;

@@ -160,9 +160,17 @@ pub trait Robots {
 
     /// Wakes every robot of `calls` (distinct, in ascending order) at once.
     /// The calls stay the world's (it reuses their buffers); the robots may
-    /// take the frames out. `outputs[k]` answers `calls[k]`; `None` when that robot turned out to
-    /// be dead (its process gone).
+    /// take the frames out. On return `outputs[k]` answers `calls[k]`;
+    /// `None` when that robot turned out to be dead (its process gone).
+    /// `outputs` is the vector of the last call, its entries' `send` and
+    /// `notes` emptied by the world: refill it or overwrite the entries in
+    /// place to reuse their buffers.
     fn wake(&mut self, calls: &mut [WakeCall<Self::Payload>], outputs: &mut Vec<Option<Output<Self::Payload>>>);
+
+    /// The frames of a wake-up, read and done with, before the world drops
+    /// them: an engine may take back buffers it lent (leave `frames` empty
+    /// or not; the world clears it).
+    fn reclaim(&mut self, _frames: &mut Vec<Delivery<Self::Payload>>) {}
 
     /// Slot `round` starts at simulated time `now` (for wall-clock measures).
     fn slot_started(&mut self, _round: u32, _now: Time) {}
