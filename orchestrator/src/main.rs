@@ -1,5 +1,6 @@
 //! `gridswarm`: command-line front end. Parses arguments, calls the library,
-//! and turns every error into one `error: ...` line on stderr.
+//! and turns every error into one `error: ...` line on stderr (a usage
+//! error keeps clap's whole message: its suggestions and the usage line).
 //!
 //! Exit status: 0 success; 1 an error (bad scenario, unwritable output, ...);
 //! 2 a usage error (unknown algorithm, bad robot range, ...); 3 `check` found
@@ -423,10 +424,9 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
         Err(e) => {
-            // Clap's message is several lines (usage, tips); keep the one that says what is wrong.
-            let rendered = e.to_string();
-            let line = rendered.lines().find(|l| !l.trim().is_empty()).unwrap_or("error: bad arguments");
-            eprintln!("{line}");
+            // Clap's whole message: what is wrong, its suggestions ("a
+            // similar argument exists"), the usage line and where to get help.
+            let _ = e.print();
             return ExitCode::from(2);
         }
     };

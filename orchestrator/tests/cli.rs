@@ -47,6 +47,37 @@ fn assert_clean_error(o: &Output) -> String {
     err
 }
 
+/// One error: a single line of ours, or clap's whole usage message (the
+/// error, its suggestions, the usage line and the pointer to --help).
+fn assert_one_error(err: &str, args: &[impl std::fmt::Debug]) {
+    let first = err.lines().next().unwrap_or("");
+    assert!(first.starts_with("error: "), "{args:?}: {err}");
+    if err.lines().count() > 1 {
+        assert!(err.trim_end().ends_with("try '--help'."), "{args:?}: {err}");
+        assert_eq!(err.matches("error: ").count(), 1, "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn usage_errors_keep_all_their_lines() {
+    let cases: &[(&[&str], &[&str])] = &[
+        (&["replay"], &["<DIR>", "Usage: gridswarm replay"]),
+        (&["experiment", "--grids", "--runs", "5"], &["--grids", "--runs", "cannot be used with"]),
+        (&["simulate", "--robot", "5"], &["--robot", "tip: a similar argument exists: '--robots'"]),
+        (&["simualte"], &["simualte", "tip: a similar subcommand exists: 'simulate'"]),
+    ];
+    for (args, want) in cases {
+        let o = gridswarm(args);
+        let err = assert_clean_error(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_one_error(&err, args);
+        for w in *want {
+            assert!(err.contains(w), "{args:?}: no {w:?} in {err}");
+        }
+        assert!(err.contains("For more information, try '--help'."), "{args:?}: {err}");
+    }
+}
+
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()
 }
@@ -260,7 +291,7 @@ fn bad_input_fails_cleanly() {
     for args in cases {
         let o = gridswarm(&args.iter().map(String::as_str).collect::<Vec<_>>());
         let err = assert_clean_error(&o);
-        assert_eq!(err.lines().count(), 1, "{args:?}: more than one line: {err}");
+        assert_one_error(&err, &args);
     }
     let err = assert_clean_error(&gridswarm(&["simulate", "--algorithm", "nosuch"]));
     assert!(err.contains("nosuch"), "{err}");
@@ -404,7 +435,7 @@ fn bad_fault_flags_give_one_line_and_exit_2() {
     for args in cases {
         let o = gridswarm(args);
         let err = assert_clean_error(&o);
-        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert_one_error(&err, args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
     }
     let err = stderr(&gridswarm(&["simulate", "--robots", "3", "--kill", "3@2"]));
