@@ -84,3 +84,27 @@ fn print_some_runs() {
         }
     }
 }
+
+/// Target ids are 32-bit: with more than 65,535 targets every one is still
+/// detectable (a 16-bit id once made target 65,536 alias target 0, and the
+/// run never completed).
+#[test]
+fn more_than_65535_targets_are_all_found() {
+    let area = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(6.0, 0.0), Point::new(6.0, 5.0), Point::new(0.0, 5.0)]);
+    let n = 65_537;
+    // A dense spiral of distinct points over the area's middle.
+    let targets: Vec<Point> = (0..n)
+        .map(|k| {
+            let f = k as f64 / n as f64;
+            let a = k as f64 * 0.618_033_988_75 * std::f64::consts::TAU;
+            Point::new(3.0 + 1.8 * f.sqrt() * a.cos(), 2.5 + 1.8 * f.sqrt() * a.sin())
+        })
+        .collect();
+    let world = World::new(area, vec![], targets, Params::default(), LatticeKind::Triangular);
+    let s = starts(&world, 2);
+    for policy in [Policy::Repulsive, Policy::Lfp] {
+        let r = engine::run(&world, &s, &RunConfig::new(policy, 3, Situation::One));
+        assert_eq!((r.targets_total, r.targets_found), (n, n), "{policy}");
+        assert!(r.complete, "{policy}: {} rounds, ended by {}", r.rounds, r.protocol.ended_by);
+    }
+}
