@@ -356,7 +356,7 @@ fn interrupted(procs: &mut Processes, sig: i32) -> Error {
     procs.abort();
     launch::default_signals();
     let name = if sig == libc::SIGINT { "SIGINT" } else { "SIGTERM" };
-    Error::Run(format!("interrupted by {name}: stopped the world-server and every robot-agent, removed the run's files"))
+    Error::Run(format!("interrupted by {name}: stopped the world-server and every robot-agent, removed the run's shared-memory files (results written so far are kept)"))
 }
 
 #[cfg(test)]
