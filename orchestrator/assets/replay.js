@@ -455,7 +455,7 @@
     var drawn = 0, failedDrawn = 0;
     for (r = 0; r < n; r++) {
       var failed = failedAt[r] <= k, ended = !failed && k >= lens[r];
-      drawRobot(ctx, X(pos[r][0]), Y(pos[r][1]), rr, colours[r], failed, ended, n <= 99 ? String(r + 1) : "");
+      drawRobot(ctx, X(pos[r][0]), Y(pos[r][1]), rr, colours[r], failed, ended, n <= 100 ? String(r) : "");
       drawn++;
       if (failed) failedDrawn++;
     }
@@ -559,7 +559,7 @@
   // ------------------------------------------------------- static panels
   function legend() {
     var items = [
-      ["robot (number = id + 1)", function (g) { drawRobot(g, 11, 9, 6, colours[0], false, false, ""); }],
+      ["robot (number = its id, as in the CLI and JSON)", function (g) { drawRobot(g, 11, 9, 6, colours[0], false, false, ""); }],
       ["failed robot", function (g) { drawRobot(g, 11, 9, 6, "", true, false, ""); }],
       ["target / found", function (g) { drawTarget(g, 6, 9, false, 5); drawTarget(g, 17, 9, true, 5); }],
       ["detected area", function (g) { g.fillStyle = C.detected; g.globalAlpha = 0.55; g.fillRect(2, 3, 18, 12); g.globalAlpha = 1; }],

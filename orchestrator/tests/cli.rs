@@ -146,7 +146,8 @@ fn simulate_out_writes_reproducible_files() {
     let svg = fs::read_to_string(a.join("routes.svg")).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("routes.svg is XML");
     assert_eq!(doc.root_element().tag_name().name(), "svg");
-    for r in 1..=4 {
+    // Robots numbered from 0 as in the CLI and trajectories.jsonl.
+    for r in 0..4 {
         let id = format!("robot-{r}");
         assert!(doc.descendants().any(|n| n.attribute("id") == Some(id.as_str())), "{id} missing");
     }

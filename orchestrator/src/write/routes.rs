@@ -155,7 +155,7 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
     for (r, poses) in trajectories.iter().enumerate() {
         let colour = robot_colour(r);
         let pts = route(poses);
-        let _ = writeln!(s, r#"<g id="robot-{}" stroke="{colour}" fill="{colour}">"#, r + 1);
+        let _ = writeln!(s, r#"<g id="robot-{r}" stroke="{colour}" fill="{colour}">"#);
         if pts.len() >= 2 {
             let _ = writeln!(
                 s,
@@ -198,8 +198,7 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
             let rad = (frame.len(a) * 0.18).clamp(4.0, 10.0);
             let _ = writeln!(
                 s,
-                r##"<rect class="start" data-robot="{}" x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="#ffffff" stroke="{colour}" stroke-width="2"/>"##,
-                r + 1,
+                r##"<rect class="start" data-robot="{r}" x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="#ffffff" stroke="{colour}" stroke-width="2"/>"##,
                 x - rad,
                 y - rad,
                 2.0 * rad,
@@ -207,17 +206,15 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
             );
             let _ = writeln!(
                 s,
-                r#"<text x="{x:.2}" y="{:.2}" font-size="{:.1}" text-anchor="middle" fill="{colour}">{}</text>"#,
+                r#"<text x="{x:.2}" y="{:.2}" font-size="{:.1}" text-anchor="middle" fill="{colour}">{r}</text>"#,
                 y + rad * 0.45,
                 rad * 1.2,
-                r + 1
             );
         }
         if let Some(&end) = pts.last() {
             let _ = writeln!(
                 s,
-                r#"<circle class="end" data-robot="{}" cx="{:.2}" cy="{:.2}" r="{:.2}" fill="{colour}"/>"#,
-                r + 1,
+                r#"<circle class="end" data-robot="{r}" cx="{:.2}" cy="{:.2}" r="{:.2}" fill="{colour}"/>"#,
                 frame.x(end.x),
                 frame.y(end.y),
                 stroke * 2.0
@@ -233,12 +230,11 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
     for r in 0..trajectories.len() {
         let _ = writeln!(
             s,
-            r#"<line x1="{lx:.2}" y1="{ly:.2}" x2="{:.2}" y2="{ly:.2}" stroke="{}" stroke-width="3"/><text x="{:.2}" y="{:.2}">robot {}</text>"#,
+            r#"<line x1="{lx:.2}" y1="{ly:.2}" x2="{:.2}" y2="{ly:.2}" stroke="{}" stroke-width="3"/><text x="{:.2}" y="{:.2}">robot {r}</text>"#,
             lx + 22.0,
             robot_colour(r),
             lx + 28.0,
             ly + 4.0,
-            r + 1
         );
         ly += 16.0;
     }
@@ -288,19 +284,20 @@ mod tests {
             |id: &str| doc.descendants().find(|n| n.attribute("id") == Some(id)).unwrap_or_else(|| panic!("no {id}"));
         assert_eq!(by_id("obstacles").children().filter(|n| n.is_element()).count(), 2);
         assert_eq!(by_id("vertices").children().filter(|n| n.is_element()).count(), w.accessible_vertices().count());
-        // Robot 1: the wait is dropped, so 2 segments and 2 arrowheads.
-        let r1 = by_id("robot-1");
+        // Robot 0 (numbered as in the CLI and JSON): the wait is dropped,
+        // so 2 segments and 2 arrowheads.
+        let r1 = by_id("robot-0");
         assert_eq!(r1.children().filter(|n| n.has_tag_name("polygon")).count(), 2);
         let starts = |r: &str| {
             doc.descendants()
                 .filter(|n| n.attribute("class") == Some("start") && n.attribute("data-robot") == Some(r))
                 .count()
         };
-        assert_eq!(starts("1"), 1);
-        // Robot 2 never moved: a start mark but no route.
-        let r2 = by_id("robot-2");
+        assert_eq!(starts("0"), 1);
+        // Robot 1 never moved: a start mark but no route.
+        let r2 = by_id("robot-1");
         assert_eq!(r2.children().filter(|n| n.has_tag_name("polyline")).count(), 0);
-        assert_eq!(starts("2"), 1);
+        assert_eq!(starts("1"), 1);
         assert!(svg.contains("paper &lt;test&gt; &amp; co"));
     }
 
