@@ -27,6 +27,7 @@ use crate::panels::{self, Panel, Series};
 use crate::report::{self, Block, Claim, Report, Section, Table};
 use crate::sweep::{self, Engine, Job, Setting};
 use crate::tally::{self, ProtoRun, ProtoStats};
+use crate::staging::Staging;
 use crate::{check, contract, output};
 
 pub use crate::report::text_table;
@@ -257,7 +258,8 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
         Engine::InProcess => DEFAULT_RUNS,
         Engine::Distributed => DEFAULT_RUNS_DISTRIBUTED,
     });
-    output::create_dir(&opts.out)?;
+    // Before any run: an unwritable --out fails now, not after the runs.
+    let stage = Staging::begin(&opts.out)?;
     let world = scenario.world();
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
@@ -280,13 +282,18 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
             FailureRow { killed: k, stats: ProtoStats::of(&mine) }
         })
         .collect();
-    let page = Page { opts, scenario: &scenario, robots, runs_per, wall_time_s, runs: &runs, rows: &rows };
-    page.write()?;
+    let dir = stage.path().to_path_buf();
+    let page = Page { dir: &dir, opts, scenario: &scenario, robots, runs_per, wall_time_s, runs: &runs, rows: &rows };
+    // The files go in whole or not at all; if they cannot, the table is
+    // still shown before the error.
+    page.write().and_then(|()| stage.commit()).inspect_err(|_| print!("{}", page.text()))?;
     Ok((rows.clone(), page.text()))
 }
 
 /// What the experiment writes, and its terminal text.
 struct Page<'a> {
+    /// The staging folder the files are written to.
+    dir: &'a std::path::Path,
     opts: &'a FailuresOptions,
     scenario: &'a gridswarm::scenario::Scenario,
     robots: usize,
@@ -337,7 +344,7 @@ impl Page<'_> {
     }
 
     fn write(&self) -> Result<()> {
-        let out = &self.opts.out;
+        let out = self.dir;
         output::write_text(&out.join("failures.csv"), &csv(self.rows))?;
         output::write_text(&out.join("failures-runs.csv"), &runs_csv(self.runs))?;
         let svg_path = out.join("failures.svg");

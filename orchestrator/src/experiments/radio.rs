@@ -27,6 +27,7 @@ use crate::panels::{self, Panel, Series};
 use crate::report::{self, text_table, Block, Report, Section, Table};
 use crate::sweep::{self, Engine, Job, Setting};
 use crate::tally::{self, ProtoRun, ProtoStats};
+use crate::staging::Staging;
 use crate::{check, contract, output};
 
 pub const DEFAULT_LOSS: &str = "0,0.05,0.1,0.2,0.3";
@@ -267,7 +268,8 @@ pub fn run(opts: &RadioOptions) -> Result<(Vec<RadioRow>, String)> {
         Engine::InProcess => DEFAULT_RUNS,
         Engine::Distributed => DEFAULT_RUNS_DISTRIBUTED,
     });
-    output::create_dir(&opts.out)?;
+    // Before any run: an unwritable --out fails now, not after the runs.
+    let stage = Staging::begin(&opts.out)?;
     let world = scenario.world();
     for &n in &opts.robots {
         let starts = contract::start_vertices(&scenario, &world, n)?;
@@ -290,13 +292,18 @@ pub fn run(opts: &RadioOptions) -> Result<(Vec<RadioRow>, String)> {
             RadioRow { point: p, stats: ProtoStats::of(&mine) }
         })
         .collect();
-    let page = Page { opts, scenario: &scenario, runs_per, wall_time_s, runs: &runs, rows: &rows };
-    page.write()?;
+    let dir = stage.path().to_path_buf();
+    let page = Page { dir: &dir, opts, scenario: &scenario, runs_per, wall_time_s, runs: &runs, rows: &rows };
+    // The files go in whole or not at all; if they cannot, the table is
+    // still shown before the error.
+    page.write().and_then(|()| stage.commit()).inspect_err(|_| print!("{}", page.text()))?;
     Ok((rows.clone(), page.text()))
 }
 
 /// What the experiment writes, and its terminal text.
 struct Page<'a> {
+    /// The staging folder the files are written to.
+    dir: &'a std::path::Path,
     opts: &'a RadioOptions,
     scenario: &'a gridswarm::scenario::Scenario,
     runs_per: u32,
@@ -338,7 +345,7 @@ impl Page<'_> {
     }
 
     fn write(&self) -> Result<()> {
-        let out = &self.opts.out;
+        let out = self.dir;
         output::write_text(&out.join("radio.csv"), &csv(self.rows))?;
         output::write_text(&out.join("radio-runs.csv"), &runs_csv(self.runs))?;
         let svg_path = out.join("radio.svg");

@@ -27,6 +27,7 @@ use crate::panels::{self, Panel, Series};
 use crate::report::{self, Block, Report, Section, Table};
 use crate::run::{self, RunOptions};
 use crate::stats::median;
+use crate::staging::Staging;
 use crate::{check, output};
 
 pub const DEFAULT_ROBOTS: &str = "13,50,100,200";
@@ -368,7 +369,8 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         }
         starts.push(st);
     }
-    output::create_dir(&opts.out)?;
+    // Before any run: an unwritable --out fails now, not after the runs.
+    let stage = Staging::begin(&opts.out)?;
 
     let total = opts.robots.len() * opts.runs as usize;
     let bar = progress_bar(total as u64, opts.progress);
@@ -436,7 +438,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
             ScaleRow::of(n, &scenario_for(opts, n), &of_n)
         })
         .collect();
-    let out = &opts.out;
+    let out = &stage.path().to_path_buf();
     output::write_text(&out.join("scale.csv"), &csv(&rows))?;
     output::write_text(&out.join("scale-runs.csv"), &runs_csv(&runs))?;
     let scen_names: Vec<&str> = worlds.keys().map(String::as_str).collect();
@@ -515,6 +517,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         ],
     };
     output::write_text(&out.join("report.html"), &report::render(&page))?;
+    stage.commit()?;
     let text = format!(
         "scale: algorithm {}, robots {}, {} run(s) each, base seed {}\n{}\n\
          {} runs in {wall_time_s:.1} s; wrote scale.csv, scale-runs.csv, scale.svg, report.html in {}\n",
