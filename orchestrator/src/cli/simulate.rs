@@ -14,6 +14,7 @@ use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
 use crate::faults::FaultPlan;
 use crate::rundir::{self, RunRecord};
+use crate::staging::Staging;
 use crate::{check, output};
 
 #[derive(Clone, Debug)]
@@ -47,9 +48,7 @@ pub fn simulate(opts: &SimulateOptions) -> Result<String> {
     opts.faults.configure(&mut cfg, robots)?;
     opts.faults.apply_params(&mut scenario.params);
     // Before the run, so a bad directory fails at once.
-    if let Some(dir) = &opts.out {
-        output::create_dir(dir)?;
-    }
+    let stage = opts.out.as_deref().map(Staging::begin).transpose()?;
     let world = scenario.world();
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
@@ -69,8 +68,8 @@ pub fn simulate(opts: &SimulateOptions) -> Result<String> {
     });
     let record = RunRecord { scenario: &scenario, world: &world, starts: &starts, lfp: &lfp, result: &result, extra };
     let summary = record.summary();
-    let written = match &opts.out {
-        Some(dir) => rundir::write_run_dir(dir, &record)?,
+    let written = match stage {
+        Some(stage) => rundir::write_staged(stage, &record)?,
         None => Vec::new(),
     };
 

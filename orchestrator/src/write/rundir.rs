@@ -24,6 +24,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
+use crate::staging::Staging;
 use crate::{figures, output, replay, routes};
 
 /// Names of the files in a run directory.
@@ -237,6 +238,15 @@ pub fn rounds_csv(round_end_times_s: &[f64]) -> String {
         let _ = writeln!(s, "{k},{}", output::fixed(*t));
     }
     s
+}
+
+/// Writes every file of a run into the staging folder `stage`, puts it in
+/// place and returns the files' final paths.
+pub fn write_staged(stage: Staging, run: &RunRecord) -> Result<Vec<PathBuf>> {
+    let written = write_run_dir(stage.path(), run)?;
+    let target = stage.target().to_path_buf();
+    stage.commit()?;
+    Ok(written.iter().filter_map(|p| Some(target.join(p.file_name()?))).collect())
 }
 
 /// Writes every file of a run into `dir` (created if missing) and returns

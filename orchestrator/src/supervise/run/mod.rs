@@ -37,6 +37,7 @@ use crate::contract;
 use crate::error::{Error, Result};
 use crate::launch::{self, Event};
 use crate::rundir::{self, RunRecord};
+use crate::staging::Staging;
 
 pub use files::temp_files;
 use files::RunFiles;
@@ -196,9 +197,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let mut warnings: Vec<String> = Vec::new();
     let mut warn = |w: String| if quiet { warnings.push(w) } else { eprintln!("{w}") };
     let plan = plan(opts)?;
-    if let Some(dir) = &opts.out {
-        crate::output::create_dir(dir)?;
-    }
+    let stage = opts.out.as_deref().map(Staging::begin).transpose()?;
     for w in check::warnings(&contract::check_assumptions(&plan.scenario, &plan.world, &plan.starts)) {
         warn(w);
     }
@@ -257,8 +256,8 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         extra,
     };
     let summary = record.summary();
-    let written = match &opts.out {
-        Some(dir) => rundir::write_run_dir(dir, &record)?,
+    let written = match stage {
+        Some(stage) => rundir::write_staged(stage, &record)?,
         None => Vec::new(),
     };
     Ok(Done { plan, result, report, summary, written, warnings })
