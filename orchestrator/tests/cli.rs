@@ -252,6 +252,7 @@ fn check_fails_when_an_assumption_fails() {
     let o = gridswarm(&["check", path(&f)]);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stdout(&o).contains("FAILS 2.4"), "{}", stdout(&o));
+    assert!(stdout(&o).contains("fix 2.4      raise `r_so`"), "a hint on how to fix it: {}", stdout(&o));
     let err = assert_clean_error(&o);
     assert!(err.contains("2.4"), "{err}");
     let o = gridswarm(&["simulate", "--scenario", path(&f), "--robots", "2"]);

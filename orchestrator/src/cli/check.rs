@@ -1,7 +1,7 @@
 //! `gridswarm check`: loads a scenario, places its robots and reports which
 //! of the paper's assumptions hold on it. Also the warning the other
 //! subcommands print when they run a scenario that breaks an assumption
-//! (READING.md: such a scenario may run, but the tool must say so).
+//! (docs/paper.md: such a scenario may run, but the tool must say so).
 
 use std::fmt::Write as _;
 
@@ -58,7 +58,27 @@ pub fn check(scenario_name: &str) -> Result<CheckOutcome> {
     );
     let _ = writeln!(text, "assumptions:");
     let _ = write!(text, "{report}");
+    for c in report.failures() {
+        let _ = writeln!(text, "fix {:<8} {}", c.id, hint(c.id));
+    }
     Ok(CheckOutcome { text, report })
+}
+
+/// How to make a failing assumption hold, in the scenario file's terms.
+pub fn hint(id: &str) -> &'static str {
+    match id {
+        "2.4" => "raise `r_so` in [params] to at least a + r_safe (or drop it: the default is that bound)",
+        "2.5" => "raise `r_c` in [params] to at least 2a + r_safe - r_rob (or drop it: the default is that bound)",
+        "r_safe" => "make `r_safe` larger than `r_rob` in [params]",
+        "3.1.1" => "raise `r_st` in [params] to at least a + r_safe (or drop it: the default is that bound)",
+        "3.1.2" => "open the named corner (a wider angle), move it nearer the accessible grid, or raise `r_st`",
+        "3.1.3" => "move the named obstacle or wall apart to at least W_pass = a + 2 r_safe, or close the gap entirely",
+        "Va" => "join the unreachable part to the rest with a passage at least a + 2 r_safe wide, or add a start there",
+        "starts" => "give each robot its own start point inside the accessible area ([starts] points), or fewer robots",
+        "targets" => "move each named target within r_st of an accessible vertex, or raise `r_st`",
+        "coverage" => "widen the narrow parts near the named points, or raise `r_st` so their walls are in range",
+        _ => "see docs/paper.md \"The world\" for what the assumption asks",
+    }
 }
 
 /// One `warning:` line per failing assumption, for stderr.
