@@ -16,6 +16,7 @@ use crate::contract;
 use crate::error::Result;
 use crate::output;
 use crate::report::{self, Block, Report, Section, Table};
+use crate::staging::Staging;
 
 #[derive(Clone, Debug)]
 pub struct GridsOptions {
@@ -42,7 +43,8 @@ pub const RASTER_DIVISIONS: f64 = 20.0;
 
 pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
     let base = contract::load_scenario(&opts.scenario)?;
-    output::create_dir(&opts.out)?;
+    let stage = Staging::begin(&opts.out)?;
+    let dir = stage.path().to_path_buf();
     let h = base.params.a / RASTER_DIVISIONS;
     let mut rows = Vec::new();
     for kind in LatticeKind::ALL {
@@ -65,8 +67,7 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
             undetected_area_m2: (1.0 - fraction) * raster.samples() as f64 * h * h,
         });
     }
-    let csv_path = opts.out.join("grids.csv");
-    output::write_text(&csv_path, &csv(&rows))?;
+    output::write_text(&dir.join("grids.csv"), &csv(&rows))?;
     let p = &base.params;
     let mut text = format!(
         "scenario {}: a = {} m, r_safe = {} m, r_st = {} m, start vertices of {} robots as the scenario \
@@ -93,10 +94,14 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
         "lattices on which visiting all of Va detects every raster sample of Ad: {}",
         if complete.is_empty() { "none".to_string() } else { complete.join(", ") }
     );
-    let html_path = opts.out.join("grids.html");
-    output::write_text(&html_path, &report::render(&grids_report(&base, h, &rows, &text)))?;
-    let _ = writeln!(text, "wrote {}", csv_path.display());
-    let _ = writeln!(text, "wrote {}", html_path.display());
+    text += "vertices: the lattice's frame over the area\n\
+             accessible: in Ad and at least r_safe from every wall and obstacle\n\
+             |Va|: accessible and reachable from the starts over traversable edges (what a search can visit)\n\
+             detected fraction: share of raster samples of Ad within r_st of a vertex of Va\n";
+    output::write_text(&dir.join("grids.html"), &report::render(&grids_report(&base, h, &rows, &text)))?;
+    stage.commit()?;
+    let _ = writeln!(text, "wrote {}", opts.out.join("grids.csv").display());
+    let _ = writeln!(text, "wrote {}", opts.out.join("grids.html").display());
     Ok((rows, text))
 }
 

@@ -18,6 +18,15 @@ use crate::error::{Error, Result};
 /// The file that marks a folder as gridswarm's output, safe to replace.
 pub const MARKER: &str = ".gridswarm-output";
 
+/// Files gridswarm writes: a folder holding nothing else (written before
+/// [`MARKER`] existed) is gridswarm's output too.
+const OUR_FILES: [&str; 24] = [
+    "claims.txt", "failures-runs.csv", "failures.csv", "failures.svg", "fig7.svg", "grids.csv", "grids.html",
+    "maps.csv", "radio-runs.csv", "radio.csv", "radio.svg", "replay.html", "report.html", "results.csv",
+    "rounds.csv", "routes.svg", "runs.csv", "scale-runs.csv", "scale.csv", "scale.svg", "summary.json",
+    "trajectories.jsonl", "world.json", MARKER,
+];
+
 /// A staging folder for `target`, removed on drop unless committed.
 #[derive(Debug)]
 pub struct Staging {
@@ -100,8 +109,9 @@ fn check_replaceable(target: &Path) -> Result<()> {
     if !meta.is_dir() {
         return Err(Error::Input(format!("--out `{}` exists and is not a folder", target.display())));
     }
-    let empty = fs::read_dir(target).map(|mut d| d.next().is_none()).unwrap_or(false);
-    if empty || target.join(MARKER).is_file() {
+    let ours = |e: &fs::DirEntry| e.file_type().is_ok_and(|t| t.is_file()) && OUR_FILES.iter().any(|f| e.file_name() == *f);
+    let only_ours = fs::read_dir(target).map(|d| d.flatten().all(|e| ours(&e))).unwrap_or(false);
+    if only_ours || target.join(MARKER).is_file() {
         return Ok(());
     }
     Err(Error::Input(format!(
@@ -172,6 +182,13 @@ mod tests {
         let err = Staging::begin(&mine).unwrap_err().to_string();
         assert!(err.contains("did not write"), "{err}");
         assert_eq!(fs::read_to_string(mine.join("thesis.tex")).unwrap(), "precious");
+        // Output of a gridswarm from before the marker is recognised by
+        // its files' names.
+        let old = d.join("old");
+        fs::create_dir_all(&old).unwrap();
+        fs::write(old.join("results.csv"), "x").unwrap();
+        Staging::begin(&old).unwrap().commit().unwrap();
+        assert_eq!(names(&old), [MARKER]);
         // An empty folder is fine.
         let empty = d.join("empty");
         fs::create_dir_all(&empty).unwrap();
