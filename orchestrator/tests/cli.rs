@@ -532,3 +532,12 @@ fn experiment_radio_writes_its_files_and_table() {
     assert_ok(&gridswarm(&a2));
     assert_eq!(csv, fs::read_to_string(again.join("radio.csv")).unwrap());
 }
+
+#[test]
+fn routes_of_a_large_map_stay_small() {
+    let d = scratch("routes_large");
+    let o = gridswarm(&["simulate", "--scenario", "large", "--robots", "50", "--out", path(&d.join("run"))]);
+    assert_ok(&o);
+    let size = fs::metadata(d.join("run").join("routes.svg")).unwrap().len();
+    assert!(size < 2_000_000, "routes.svg is {size} bytes");
+}

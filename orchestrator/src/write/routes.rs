@@ -41,6 +41,7 @@ struct Frame {
     lo: Point,
     hi: Point,
     scale: f64,
+    /// Left edge of the map, after the y axis's labels.
     margin: f64,
     top: f64,
 }
@@ -49,11 +50,14 @@ impl Frame {
     fn x(&self, x: f64) -> f64 {
         self.margin + (x - self.lo.x) * self.scale
     }
+    fn bottom(&self) -> f64 {
+        self.y(self.lo.y)
+    }
     fn y(&self, y: f64) -> f64 {
         self.top + (self.hi.y - y) * self.scale
     }
     fn pt(&self, p: Point) -> String {
-        format!("{:.2},{:.2}", self.x(p.x), self.y(p.y))
+        format!("{:.1},{:.1}", self.x(p.x), self.y(p.y))
     }
     fn len(&self, d: f64) -> f64 {
         d * self.scale
@@ -65,15 +69,134 @@ fn polygon_points(f: &Frame, poly: &Polygon) -> String {
 }
 
 /// Route of one robot: its positions with consecutive repeats (waiting)
-/// removed, since a zero-length segment has no direction to draw.
+/// removed, since a zero-length segment has no direction to draw, and the
+/// middle points of straight runs merged, which keeps the file small on
+/// large maps without changing the picture.
 fn route(poses: &[Pose]) -> Vec<Point> {
     let mut out: Vec<Point> = Vec::new();
     for p in poses {
-        if out.last().is_none_or(|&q| (q - p.position).norm() > 1e-9) {
-            out.push(p.position);
+        let q = p.position;
+        if out.last().is_some_and(|&l| (l - q).norm() <= 1e-9) {
+            continue;
         }
+        if let [.., a, b] = out[..] {
+            let (u, v) = (b - a, q - b);
+            // Same direction (not a reversal): b is inside a straight run.
+            if (u.x * v.y - u.y * v.x).abs() <= 1e-9 * u.norm() * v.norm() && u.dot(&v) > 0.0 {
+                out.pop();
+            }
+        }
+        out.push(q);
     }
     out
+}
+
+/// At most this many arrowheads per robot: enough to read the direction,
+/// few enough that a long route on a large map stays a small file.
+const MAX_ARROWS: usize = 40;
+
+/// The legend's layout: a swatch per robot in as many columns as the map's
+/// height needs (200 robots fit), then what the marks mean.
+struct Legend {
+    robots: usize,
+    rows: usize,
+    columns: usize,
+}
+
+const LEGEND_ROW: f64 = 16.0;
+const LEGEND_COLUMN: f64 = 92.0;
+const MARKS: [&str; 5] = ["square: start", "dot: end", "diamond: target", "dashed: r_st", "grey dots: accessible"];
+
+impl Legend {
+    fn new(robots: usize, map_height: f64) -> Self {
+        let rows = ((map_height - 90.0) / LEGEND_ROW).floor().max(10.0) as usize;
+        Legend { robots, rows, columns: robots.div_ceil(rows).max(1) }
+    }
+
+    fn width(&self) -> f64 {
+        (self.columns as f64 * LEGEND_COLUMN).max(130.0)
+    }
+
+    fn height(&self) -> f64 {
+        self.robots.min(self.rows) as f64 * LEGEND_ROW + 8.0 + MARKS.len() as f64 * 13.0 + 10.0
+    }
+
+    fn write(&self, s: &mut String, x0: f64, y0: f64) {
+        let _ = writeln!(s, r#"<g id="legend" font-size="12">"#);
+        for r in 0..self.robots {
+            let (lx, ly) = (x0 + (r / self.rows) as f64 * LEGEND_COLUMN, y0 + 10.0 + (r % self.rows) as f64 * LEGEND_ROW);
+            let _ = writeln!(
+                s,
+                r#"<line x1="{lx:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{}" stroke-width="3"/><text x="{:.1}" y="{:.1}">robot {r}</text>"#,
+                lx + 22.0,
+                robot_colour(r),
+                lx + 28.0,
+                ly + 4.0,
+            );
+        }
+        let mut ly = y0 + 10.0 + self.robots.min(self.rows) as f64 * LEGEND_ROW + 8.0;
+        for line in MARKS {
+            let _ = writeln!(s, r#"<text x="{x0:.1}" y="{ly:.1}" font-size="10">{line}</text>"#);
+            ly += 13.0;
+        }
+        let _ = writeln!(s, "</g>");
+    }
+}
+
+/// A round step (1, 2 or 5 times a power of ten) giving about `n` ticks over `span`.
+fn nice_step(span: f64, n: f64) -> f64 {
+    let raw = (span / n).max(1e-9);
+    let p = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * p).find(|&s| s >= raw).unwrap_or(10.0 * p)
+}
+
+/// Axes in metres along the bottom and left of the map, and a scale bar.
+fn axes(s: &mut String, f: &Frame, lo: Point, hi: Point) {
+    let step = nice_step((hi.x - lo.x).max(hi.y - lo.y), 8.0);
+    let (bottom, left) = (f.bottom(), f.x(lo.x));
+    let _ = writeln!(s, r##"<g id="axes" font-size="10" fill="#444444" stroke="#444444" stroke-width="0.8">"##);
+    let mut x = (lo.x / step).ceil() * step;
+    while x <= hi.x + 1e-9 {
+        let px = f.x(x);
+        let _ = writeln!(
+            s,
+            r#"<line x1="{px:.1}" y1="{bottom:.1}" x2="{px:.1}" y2="{:.1}"/><text x="{px:.1}" y="{:.1}" text-anchor="middle" stroke="none">{}</text>"#,
+            bottom + 4.0,
+            bottom + 15.0,
+            tick(x)
+        );
+        x += step;
+    }
+    let mut y = (lo.y / step).ceil() * step;
+    while y <= hi.y + 1e-9 {
+        let py = f.y(y);
+        let _ = writeln!(
+            s,
+            r#"<line x1="{:.1}" y1="{py:.1}" x2="{left:.1}" y2="{py:.1}"/><text x="{:.1}" y="{:.1}" text-anchor="end" stroke="none">{}</text>"#,
+            left - 4.0,
+            left - 6.0,
+            py + 3.5,
+            tick(y)
+        );
+        y += step;
+    }
+    let (bx, by) = (left, bottom + 32.0);
+    let _ = writeln!(
+        s,
+        r#"<g id="scale-bar"><line x1="{bx:.1}" y1="{by:.1}" x2="{:.1}" y2="{by:.1}" stroke-width="2"/><text x="{:.1}" y="{:.1}" stroke="none">{} m (axes in metres)</text></g>"#,
+        bx + f.len(step),
+        bx + f.len(step) + 6.0,
+        by + 3.5,
+        tick(step)
+    );
+    let _ = writeln!(s, "</g>");
+}
+
+/// A tick label without trailing zeros.
+fn tick(v: f64) -> String {
+    let t = format!("{v:.2}");
+    let t = t.trim_end_matches('0').trim_end_matches('.');
+    if t == "-0" { "0".into() } else { t.into() }
 }
 
 /// The route map of a run as an SVG document.
@@ -84,10 +207,10 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
     // nor so large that a small map becomes a poster.
     let scale = (900.0 / w.max(h)).clamp(8.0, 80.0);
     let a = world.params.a;
-    let legend_w = 110.0;
-    let frame = Frame { lo, hi, scale, margin: 20.0, top: 40.0 };
-    let width = frame.margin * 2.0 + frame.len(w) + legend_w;
-    let height = frame.top + frame.len(h) + frame.margin;
+    let frame = Frame { lo, hi, scale, margin: 44.0, top: 40.0 };
+    let legend = Legend::new(trajectories.len(), frame.len(h));
+    let width = frame.margin + frame.len(w) + 20.0 + legend.width();
+    let height = frame.top + frame.len(h).max(legend.height()) + 48.0;
     let mut s = String::new();
     let _ = writeln!(s, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
@@ -126,7 +249,7 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
     let _ = writeln!(s, r##"<g id="vertices" fill="#b0b0b0">"##);
     for v in world.accessible_vertices() {
         let p = world.grid.position(v);
-        let _ = writeln!(s, r#"<circle cx="{:.2}" cy="{:.2}" r="{dot:.2}"/>"#, frame.x(p.x), frame.y(p.y));
+        let _ = writeln!(s, r#"<circle cx="{:.1}" cy="{:.1}" r="{dot:.1}"/>"#, frame.x(p.x), frame.y(p.y));
     }
     let _ = writeln!(s, "</g>");
 
@@ -163,7 +286,8 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
                 pts.iter().map(|&p| frame.pt(p)).collect::<Vec<_>>().join(" ")
             );
             // One arrowhead at the middle of every segment, pointing along it.
-            for seg in pts.windows(2) {
+            let stride = (pts.len() - 1).div_ceil(MAX_ARROWS);
+            for seg in pts.windows(2).step_by(stride) {
                 let (p, q) = (seg[0], seg[1]);
                 let (px, py, qx, qy) = (frame.x(p.x), frame.y(p.y), frame.x(q.x), frame.y(q.y));
                 let (dx, dy) = (qx - px, qy - py);
@@ -223,27 +347,8 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
     }
     let _ = writeln!(s, "</g>");
 
-    // Legend: one swatch per robot, and what the marks mean.
-    let lx = frame.margin * 1.5 + frame.len(w);
-    let mut ly = frame.top + 10.0;
-    let _ = writeln!(s, r#"<g id="legend" font-size="12">"#);
-    for r in 0..trajectories.len() {
-        let _ = writeln!(
-            s,
-            r#"<line x1="{lx:.2}" y1="{ly:.2}" x2="{:.2}" y2="{ly:.2}" stroke="{}" stroke-width="3"/><text x="{:.2}" y="{:.2}">robot {r}</text>"#,
-            lx + 22.0,
-            robot_colour(r),
-            lx + 28.0,
-            ly + 4.0,
-        );
-        ly += 16.0;
-    }
-    ly += 8.0;
-    for line in ["square: start", "dot: end", "diamond: target", "dashed: r_st", "grey dots: accessible"] {
-        let _ = writeln!(s, r#"<text x="{lx:.2}" y="{ly:.2}" font-size="10">{line}</text>"#);
-        ly += 13.0;
-    }
-    let _ = writeln!(s, "</g>");
+    axes(&mut s, &frame, lo, hi);
+    legend.write(&mut s, frame.margin + frame.len(w) + 20.0, frame.top);
     let _ = writeln!(s, "</svg>");
     s
 }
@@ -299,6 +404,40 @@ mod tests {
         assert_eq!(r2.children().filter(|n| n.has_tag_name("polyline")).count(), 0);
         assert_eq!(starts("1"), 1);
         assert!(svg.contains("paper &lt;test&gt; &amp; co"));
+    }
+
+    #[test]
+    fn the_legend_of_200_robots_fits_inside_the_picture() {
+        let w = world();
+        let trajectories: Vec<Vec<Pose>> = (0..200).map(|_| poses(&[(1.0, 1.0), (2.0, 1.0)])).collect();
+        let svg = routes_svg(&w, &trajectories, "many");
+        let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+        let root = doc.root_element();
+        let (width, height): (f64, f64) =
+            (root.attribute("width").unwrap().parse().unwrap(), root.attribute("height").unwrap().parse().unwrap());
+        let legend = doc.descendants().find(|n| n.attribute("id") == Some("legend")).unwrap();
+        let labels: Vec<_> = legend.descendants().filter(|n| n.has_tag_name("text") && n.text().is_some_and(|t| t.starts_with("robot "))).collect();
+        assert_eq!(labels.len(), 200);
+        for t in labels {
+            let (x, y): (f64, f64) = (t.attribute("x").unwrap().parse().unwrap(), t.attribute("y").unwrap().parse().unwrap());
+            // "robot 199" is about 55 px wide at 12 px.
+            assert!(x + 55.0 <= width && y <= height, "{} at ({x}, {y}) outside {width} x {height}", t.text().unwrap());
+        }
+        // Axes in metres and a scale bar.
+        assert!(doc.descendants().any(|n| n.attribute("id") == Some("axes")));
+        assert!(svg.contains("(axes in metres)"));
+    }
+
+    #[test]
+    fn long_routes_keep_few_arrowheads() {
+        let w = world();
+        // A robot going back and forth 500 times.
+        let pts: Vec<(f64, f64)> = (0..1000).map(|k| (1.0 + (k % 2) as f64, 1.0)).collect();
+        let svg = routes_svg(&w, &[poses(&pts)], "long");
+        let arrows = svg.matches("<polygon points=").count();
+        assert!(arrows <= MAX_ARROWS + 2, "{arrows} arrowheads");
+        // A straight run is one segment: its middle points are merged.
+        assert_eq!(route(&poses(&[(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0)])).len(), 3);
     }
 
     #[test]
