@@ -8,7 +8,9 @@
 // detected area, whole trails) is painted incrementally on off-screen layers
 // and repainted from scratch only when the replay goes backwards.
 //
-// For tests: `#round=K&paused=1` opens round K paused; #replay-state holds
+// For tests and links: `#round=K&paused=1&speed=S&trails=all|recent|off`
+// and `sensing=0|1` (likewise links, detected, grid) set what the controls
+// set; #replay-state holds
 // JSON `{ready, round, robots_drawn, ..., errors}` after every frame.
 (function () {
   "use strict";
@@ -91,7 +93,7 @@
   var stage = $("stage"), view = $("view"), ctx = view.getContext("2d");
   var chart = $("chart"), cctx = chart.getContext("2d");
   var slider = $("slider"), playBtn = $("play"), speedSel = $("speed");
-  var opt = { detected: true, grid: true, links: true, sensing: false, trails: n <= 12 ? "all" : "recent" };
+  var opt = { detected: true, grid: true, links: true, sensing: true, trails: n <= 12 ? "all" : "recent" };
   $("opt-trails").value = opt.trails;
 
   var SPEEDS = [0.25, 0.5, 1, 2, 4, 8, 16, 32, 64, 128, 256];
@@ -351,12 +353,13 @@
     ctx.drawImage(top.canvas, 0, 0, W, H);
 
     // Targets: sensing circles, then the marks.
-    var th = Math.min(9, Math.max(4, 0.16 * P.a * s)), found = 0;
+    var th = Math.min(9, Math.max(4, 0.16 * P.a * s)), found = 0, circles = 0;
     for (var t = 0; t + 1 < D.targets.length; t += 2) {
       var tx = X(D.targets[t]), ty = Y(D.targets[t + 1]), fa = D.target_found_at[t / 2];
       var isFound = fa !== null && fa <= k;
       if (isFound) found++;
-      if (opt.sensing || !isFound) {
+      if (opt.sensing) {
+        circles++;
         ctx.beginPath();
         ctx.arc(tx, ty, P.r_st * s, 0, 2 * Math.PI);
         ctx.setLineDash([4, 3]);
@@ -480,7 +483,7 @@
 
     publish({
       ready: true, round: k, u: Math.round(u * 1000) / 1000, rounds: R, robots: n,
-      robots_drawn: drawn, robots_active: active.length, robots_failed: failedDrawn,
+      robots_drawn: drawn, robots_active: active.length, robots_failed: failedDrawn, sensing_circles: circles,
       targets_found: series.found[k], targets_marked_found: found, detected: det,
       time_s: Math.round(time * 1000) / 1000, collisions: collisionsSoFar, playing: playing,
       canvas: [view.width, view.height], errors: errors.slice()
@@ -505,12 +508,23 @@
     c.height = chart.height;
     var g = c.getContext("2d");
     g.setTransform(dpr, 0, 0, dpr, 0, 0);
-    var pad = 4, w = cw - 2 * pad, h = chh - 2 * pad;
-    var cx = function (k) { return pad + (R > 0 ? k / R : 0) * w; };
+    // Room on the left for the fraction's numbers, below for the rounds'.
+    var pad = 4, padL = 30, padB = 14, w = cw - padL - pad, h = chh - pad - padB;
+    var cx = function (k) { return padL + (R > 0 ? k / R : 0) * w; };
     var cy = function (v) { return pad + (1 - v) * h; };
     g.strokeStyle = "#eee";
     g.lineWidth = 1;
-    [0.25, 0.5, 0.75].forEach(function (v) { g.beginPath(); g.moveTo(pad, cy(v)); g.lineTo(pad + w, cy(v)); g.stroke(); });
+    [0.25, 0.5, 0.75].forEach(function (v) { g.beginPath(); g.moveTo(padL, cy(v)); g.lineTo(padL + w, cy(v)); g.stroke(); });
+    g.fillStyle = "#666";
+    g.font = "10px system-ui, sans-serif";
+    g.textAlign = "right";
+    g.textBaseline = "middle";
+    [0, 0.5, 1].forEach(function (v) { g.fillText(Math.round(100 * v) + "%", padL - 3, cy(v)); });
+    g.textBaseline = "top";
+    g.textAlign = "left";
+    g.fillText("round 0", padL, pad + h + 2);
+    g.textAlign = "right";
+    g.fillText(String(R), padL + w, pad + h + 2);
     // Detected fraction, filled.
     var step = Math.max(1, Math.floor(R / (2 * w)));
     g.beginPath();
@@ -649,6 +663,13 @@
       opt.trails = q.trails;
       $("opt-trails").value = q.trails;
     }
+    // The same path as a click on the box, so a test can check both.
+    [["sensing", "opt-sensing"], ["links", "opt-links"], ["detected", "opt-detected"], ["grid", "opt-grid"]].forEach(function (o) {
+      if (q[o[0]] !== "0" && q[o[0]] !== "1") return;
+      var box = $(o[1]);
+      box.checked = q[o[0]] === "1";
+      box.dispatchEvent(new Event("change"));
+    });
     setPlaying(!(q.paused === "1" || q.paused === "true"));
   }
   window.addEventListener("hashchange", function () { readHash(); draw(); });

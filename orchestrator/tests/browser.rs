@@ -154,6 +154,12 @@ fn replay_page_draws_every_robot_at_a_round() {
     assert_no_errors(&state);
     assert_eq!(state["targets_found"], s["targets_found"], "{state}");
     assert_eq!(state["targets_marked_found"], s["targets_found"], "{state}");
+    // Sensing circles: one per target by default, none once the box is
+    // unchecked (the hash unchecks it through the box's own change event).
+    assert_eq!(state["sensing_circles"], s["targets_total"], "{state}");
+    let state = page_state(&d, &run.join("replay.html"), &format!("#round={rounds}&paused=1&sensing=0"));
+    assert_no_errors(&state);
+    assert_eq!(state["sensing_circles"], 0, "unchecked, yet circles drawn: {state}");
     let detected = state["detected"].as_f64().unwrap();
     assert!((detected - s["coverage"].as_f64().unwrap()).abs() < 1e-4, "{state} vs {s}");
     // The clock is the engine's (rounds.csv): the end of the last slot, in
