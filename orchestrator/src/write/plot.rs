@@ -64,7 +64,7 @@ pub fn fig7_svg(cells: &[CellStats], algorithms: &[Policy], title: &str) -> Resu
         chart
             .configure_mesh()
             .x_desc("number of robots")
-            .y_desc("average search time (s)")
+            .y_desc("average search time (s); bars: 95% CI of the mean")
             .axis_desc_style(("sans-serif", 16))
             .label_style(("sans-serif", 13))
             .x_labels(whole.clamp(1, 20) + 1)
