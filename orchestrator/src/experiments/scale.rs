@@ -277,9 +277,10 @@ fn table(rows: &[ScaleRow]) -> Table {
 fn figure(rows: &[ScaleRow], title: &str) -> std::result::Result<String, String> {
     let xs: Vec<f64> = rows.iter().map(|r| r.robots as f64).collect();
     let x = |r: &ScaleRow| r.robots as f64;
+    let robots = x_desc(rows);
     let mut wall = Panel::new(
         "Wall time per round (log scale)",
-        "robots",
+        &robots,
         "ms per round",
         vec![
             Series::new("distributed p50", rows.iter().map(|r| (x(r), r.round_wall_p50_ms))),
@@ -291,7 +292,7 @@ fn figure(rows: &[ScaleRow], title: &str) -> std::result::Result<String, String>
     let mib = |v: Option<f64>| v.map(|k| k / 1024.0);
     let mem = Panel::new(
         "Peak memory (RSS)",
-        "robots",
+        &robots,
         "MiB",
         vec![
             Series::new("agent max", rows.iter().map(|r| (x(r), mib(r.agent_rss_max_kib)))),
@@ -301,7 +302,7 @@ fn figure(rows: &[ScaleRow], title: &str) -> std::result::Result<String, String>
     );
     let startup = Panel::new(
         "Start-up",
-        "robots",
+        &robots,
         "ms after start",
         vec![
             Series::new("world-server ready", rows.iter().map(|r| (x(r), r.world_ready_ms))),
@@ -310,6 +311,23 @@ fn figure(rows: &[ScaleRow], title: &str) -> std::result::Result<String, String>
         ],
     );
     panels::panels_svg(title, &[wall, mem, startup], &xs)
+}
+
+/// "robots", and on which map each count ran when the map changes along
+/// the axis (N = 13 on `paper`, larger counts on `large`).
+fn x_desc(rows: &[ScaleRow]) -> String {
+    let mut runs: Vec<(String, Vec<usize>)> = Vec::new();
+    for r in rows {
+        match runs.last_mut() {
+            Some((name, ns)) if *name == r.scenario => ns.push(r.robots),
+            _ => runs.push((r.scenario.clone(), vec![r.robots])),
+        }
+    }
+    if runs.len() <= 1 {
+        return "robots".into();
+    }
+    let parts: Vec<String> = runs.iter().map(|(name, ns)| format!("{name}: {}", crate::robots::compress(ns))).collect();
+    format!("robots (map changes: {})", parts.join("; "))
 }
 
 /// The in-process engine on the same run, timed: (rounds, ms per round).

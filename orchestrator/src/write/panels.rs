@@ -121,12 +121,14 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
             if !y0.is_finite() {
                 (y0, y1) = (0.0, 1.0);
             }
+            // Room above the data for the legend in the upper left, so that
+            // it covers no line: a decade on a log scale, a third otherwise.
             if panel.log_y {
                 // Whole decades, so the labelled ticks are powers of ten.
-                (y0, y1) = (y0.floor(), y1.ceil().max(y0.floor() + 1.0));
+                (y0, y1) = (y0.floor(), y1.ceil().max(y0.floor() + 1.0) + 1.0);
             } else if panel.y_range.is_none() {
                 y0 = y0.min(0.0);
-                y1 = if y1 > y0 { y1 + (y1 - y0) * 0.08 } else { y0 + 1.0 };
+                y1 = if y1 > y0 { y1 + (y1 - y0) * 0.35 } else { y0 + 1.0 };
             }
             let mut chart = ChartBuilder::on(area)
                 .caption(&panel.title, ("sans-serif", 16))
@@ -186,7 +188,9 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
             if !panel.series.is_empty() {
                 chart
                     .configure_series_labels()
-                    .position(SeriesLabelPosition::UpperLeft)
+                    // A fixed range (a rate) has no headroom: its legend
+                    // goes low, where rates near 1 leave space.
+                    .position(if panel.y_range.is_some() { SeriesLabelPosition::LowerRight } else { SeriesLabelPosition::UpperLeft })
                     .background_style(WHITE.mix(0.9))
                     .border_style(BLACK)
                     .label_font(("sans-serif", 13))
