@@ -231,6 +231,13 @@ fn grids_compares_three_lattices() {
         assert!(row.starts_with(name), "{row}");
         let f: f64 = row.split(',').nth(5).unwrap().parse().unwrap();
         assert!((0.0..=1.0).contains(&f), "{row}");
+        // Its picture marks as many undetected samples as the fraction says
+        // are missing: none for a lattice that detects everything.
+        let svg = fs::read_to_string(d.join(format!("grids-{name}.svg"))).unwrap();
+        let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+        let holes = doc.descendants().find(|n| n.attribute("id") == Some("holes")).unwrap();
+        let marked = holes.children().filter(|n| n.is_element()).count();
+        assert_eq!(marked == 0, f >= 1.0, "{name}: {marked} holes drawn at fraction {f}");
     }
 }
 

@@ -191,6 +191,15 @@ impl Raster {
         detected as f64 / self.count as f64
     }
 
+    /// The samples of `Ad` not marked in `hit` (from [`Raster::mark`]):
+    /// where the area stays undetected.
+    pub fn unmarked_samples<'a>(&'a self, hit: &'a [bool]) -> impl Iterator<Item = Point> + 'a {
+        (0..self.inside.len()).filter(move |&k| self.inside[k] && !hit[k]).map(move |k| {
+            let (x, y) = (k % self.nx, k / self.nx);
+            Point::new(self.origin.x + (x as f64 + 0.5) * self.h, self.origin.y + (y as f64 + 0.5) * self.h)
+        })
+    }
+
     /// A blank record for [`Raster::mark`]: no sample detected yet.
     pub fn unmarked(&self) -> Vec<bool> {
         vec![false; self.inside.len()]
@@ -282,5 +291,10 @@ mod tests {
         assert_eq!(r.detected_fraction([Point::new(2.0, 2.0)], 10.0), 1.0);
         let half = r.detected_fraction([Point::new(0.0, 2.0)], 2.0);
         assert!(half > 0.35 && half < 0.45, "{half}");
+        let mut hit = r.unmarked();
+        let marked = r.mark(&mut hit, Point::new(0.0, 2.0), 2.0);
+        let rest: Vec<Point> = r.unmarked_samples(&hit).collect();
+        assert_eq!(marked + rest.len(), 1600);
+        assert!(rest.iter().all(|p| (p - Point::new(0.0, 2.0)).norm() > 2.0));
     }
 }

@@ -14,7 +14,7 @@ use gridswarm::scenario::Scenario;
 
 use crate::contract;
 use crate::error::Result;
-use crate::output;
+use crate::{output, routes};
 use crate::report::{self, Block, Report, Section, Table};
 use crate::staging::Staging;
 
@@ -47,6 +47,7 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
     let dir = stage.path().to_path_buf();
     let h = base.params.a / RASTER_DIVISIONS;
     let mut rows = Vec::new();
+    let mut pictures = Vec::new();
     for kind in LatticeKind::ALL {
         let mut scenario = base.clone();
         scenario.grid = kind;
@@ -56,7 +57,12 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
         let va_positions: Vec<_> =
             va.iter().enumerate().filter(|(_, &b)| b).map(|(v, _)| world.grid.position(v as u32)).collect();
         let raster = world.raster(h);
-        let fraction = raster.detected_fraction(va_positions.iter().copied(), scenario.params.r_st);
+        let mut hit = raster.unmarked();
+        let detected: usize = va_positions.iter().map(|&c| raster.mark(&mut hit, c, scenario.params.r_st)).sum();
+        let fraction = if raster.samples() == 0 { 1.0 } else { detected as f64 / raster.samples() as f64 };
+        let holes: Vec<_> = raster.unmarked_samples(&hit).collect();
+        let title = format!("{}: {} lattice, {} undetected samples (red) of Ad; grey: Va", base.name, kind.name(), holes.len());
+        pictures.push((kind.name(), routes::holes_svg(&world, &va_positions, &holes, &title)));
         rows.push(GridRow {
             grid: kind.name(),
             degree: world.grid.degree(),
@@ -98,7 +104,10 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
              accessible: in Ad and at least r_safe from every wall and obstacle\n\
              |Va|: accessible and reachable from the starts over traversable edges (what a search can visit)\n\
              detected fraction: share of raster samples of Ad within r_st of a vertex of Va\n";
-    output::write_text(&dir.join("grids.html"), &report::render(&grids_report(&base, h, &rows, &text)))?;
+    for (name, svg) in &pictures {
+        output::write_text(&dir.join(format!("grids-{name}.svg")), svg)?;
+    }
+    output::write_text(&dir.join("grids.html"), &report::render(&grids_report(&base, h, &rows, &text, pictures)))?;
     stage.commit()?;
     let _ = writeln!(text, "wrote {}", opts.out.join("grids.csv").display());
     let _ = writeln!(text, "wrote {}", opts.out.join("grids.html").display());
@@ -107,7 +116,7 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
 
 /// `grids.html`: the comparison table and the setup, on one page (named
 /// apart from the Fig. 7 sweep's `report.html`, which may share the directory).
-fn grids_report(base: &Scenario, h: f64, rows: &[GridRow], text: &str) -> Report {
+fn grids_report(base: &Scenario, h: f64, rows: &[GridRow], text: &str, pictures: Vec<(&str, String)>) -> Report {
     let table = Table {
         header: ["grid", "degree", "frame vertices", "accessible", "|Va|", "detected fraction", "undetected (m²)"]
             .map(String::from)
@@ -138,6 +147,19 @@ fn grids_report(base: &Scenario, h: f64, rows: &[GridRow], text: &str) -> Report
         subtitle: "How much of Ad is detected once every vertex of Va is visited, on each lattice at the same a".into(),
         sections: vec![
             Section::new("Detected fraction by lattice", vec![Block::Table(table)]),
+            Section::new(
+                "Where each lattice leaves Ad undetected",
+                pictures
+                    .into_iter()
+                    .map(|(name, svg)| Block::Figure {
+                        svg,
+                        caption: format!(
+                            "{name}: red squares are raster samples of Ad farther than r_st from every vertex of Va \
+                             (the area no search on this lattice can detect); also in grids-{name}.svg"
+                        ),
+                    })
+                    .collect(),
+            ),
             Section::new("As printed", vec![Block::Pre(text.to_string())]),
             Section::new("Parameters", vec![Block::Params(params)]),
         ],

@@ -199,19 +199,20 @@ fn tick(v: f64) -> String {
     if t == "-0" { "0".into() } else { t.into() }
 }
 
-/// The route map of a run as an SVG document.
-pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> String {
+/// Where a map of `world` goes: about 900 px on the long side, but never
+/// so small that vertices merge nor so large that a small map becomes a
+/// poster. Returns the frame and the map's size in pixels.
+fn frame_of(world: &World) -> (Frame, f64, f64) {
     let (lo, hi) = world.area.bounding_box();
     let (w, h) = ((hi.x - lo.x).max(1e-6), (hi.y - lo.y).max(1e-6));
-    // About 900 px on the long side, but never so small that vertices merge
-    // nor so large that a small map becomes a poster.
     let scale = (900.0 / w.max(h)).clamp(8.0, 80.0);
-    let a = world.params.a;
     let frame = Frame { lo, hi, scale, margin: 44.0, top: 40.0 };
-    let legend = Legend::new(trajectories.len(), frame.len(h));
-    let width = frame.margin + frame.len(w) + 20.0 + legend.width();
-    let height = frame.top + frame.len(h).max(legend.height()) + 48.0;
-    let mut s = String::new();
+    let (pw, ph) = (frame.len(w), frame.len(h));
+    (frame, pw, ph)
+}
+
+/// The document's start: size, title, white background.
+fn open_svg(s: &mut String, width: f64, height: f64, title: &str, frame: &Frame) {
     let _ = writeln!(s, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         s,
@@ -220,17 +221,20 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
     let _ = writeln!(s, "<title>{}</title>", xml_escape(title));
     let _ = writeln!(s, r##"<rect x="0" y="0" width="{width:.2}" height="{height:.2}" fill="#ffffff"/>"##);
     let _ = writeln!(s, r##"<text x="{:.2}" y="24" font-size="14">{}</text>"##, frame.margin, xml_escape(title));
+}
 
+/// The area and its obstacles.
+fn area(s: &mut String, frame: &Frame, world: &World) {
     let _ = writeln!(
         s,
         r##"<polygon id="area" points="{}" fill="#f4f4ef" stroke="#333333" stroke-width="1.5"/>"##,
-        polygon_points(&frame, &world.area)
+        polygon_points(frame, &world.area)
     );
     let _ = writeln!(s, r##"<g id="obstacles" fill="#9a9a9a" stroke="#555555" stroke-width="1">"##);
     for o in &world.obstacles {
         match o {
             Shape::Polygon(p) => {
-                let _ = writeln!(s, r#"<polygon points="{}"/>"#, polygon_points(&frame, p));
+                let _ = writeln!(s, r#"<polygon points="{}"/>"#, polygon_points(frame, p));
             }
             Shape::Circle(c) => {
                 let _ = writeln!(
@@ -244,6 +248,51 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
         }
     }
     let _ = writeln!(s, "</g>");
+}
+
+/// Where a lattice leaves `Ad` undetected: the vertices of `Va` (grey) and
+/// every raster sample no vertex of `Va` senses (`holes`, red), for
+/// `experiment --grids`.
+pub fn holes_svg(world: &World, va: &[Point], holes: &[Point], title: &str) -> String {
+    let (frame, pw, ph) = frame_of(world);
+    let (lo, hi) = world.area.bounding_box();
+    let (width, height) = (frame.margin + pw + 20.0, frame.top + ph + 48.0);
+    let mut s = String::new();
+    open_svg(&mut s, width, height, title, &frame);
+    area(&mut s, &frame, world);
+    let dot = (frame.len(world.params.a) * 0.05).clamp(0.8, 2.5);
+    let _ = writeln!(s, r##"<g id="va" fill="#888888">"##);
+    for p in va {
+        let _ = writeln!(s, r#"<circle cx="{:.1}" cy="{:.1}" r="{dot:.1}"/>"#, frame.x(p.x), frame.y(p.y));
+    }
+    let _ = writeln!(s, "</g>");
+    let cell = 2.5f64.max(dot * 1.5);
+    let _ = writeln!(s, r##"<g id="holes" fill="#d62728">"##);
+    for p in holes {
+        let _ = writeln!(
+            s,
+            r#"<rect x="{:.1}" y="{:.1}" width="{cell:.1}" height="{cell:.1}"/>"#,
+            frame.x(p.x) - cell / 2.0,
+            frame.y(p.y) - cell / 2.0
+        );
+    }
+    let _ = writeln!(s, "</g>");
+    axes(&mut s, &frame, lo, hi);
+    let _ = writeln!(s, "</svg>");
+    s
+}
+
+/// The route map of a run as an SVG document.
+pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> String {
+    let (lo, hi) = world.area.bounding_box();
+    let a = world.params.a;
+    let (frame, pw, ph) = frame_of(world);
+    let legend = Legend::new(trajectories.len(), ph);
+    let width = frame.margin + pw + 20.0 + legend.width();
+    let height = frame.top + ph.max(legend.height()) + 48.0;
+    let mut s = String::new();
+    open_svg(&mut s, width, height, title, &frame);
+    area(&mut s, &frame, world);
 
     let dot = (frame.len(a) * 0.04).clamp(0.6, 2.0);
     let _ = writeln!(s, r##"<g id="vertices" fill="#b0b0b0">"##);
@@ -348,7 +397,7 @@ pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], title: &str) -> Str
     let _ = writeln!(s, "</g>");
 
     axes(&mut s, &frame, lo, hi);
-    legend.write(&mut s, frame.margin + frame.len(w) + 20.0, frame.top);
+    legend.write(&mut s, frame.margin + pw + 20.0, frame.top);
     let _ = writeln!(s, "</svg>");
     s
 }
