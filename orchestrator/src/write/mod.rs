@@ -10,3 +10,4 @@ pub mod replay;
 pub mod report;
 pub mod routes;
 pub mod rundir;
+pub mod spread;
