@@ -140,7 +140,11 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         scenario.grid.name(),
         scenario.situation.number(),
         opts.runs,
-        if several { format!(" and map ({} runs per cell in all)", opts.runs as usize * maps.len()) } else { String::new() },
+        if several {
+            format!(" and map ({} runs per cell in all)", opts.runs as usize * maps.len())
+        } else {
+            String::new()
+        },
         opts.seed,
         opts.max_rounds,
         serde_json::to_string(&scenario.params).expect("params serialise"),
@@ -156,7 +160,12 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     }
     let fig_path = out.join("fig7.svg");
     let title = if several {
-        format!("{} random maps from {}: mean search time of {} runs", maps.len(), scenario.name, opts.runs * maps.len() as u32)
+        format!(
+            "{} random maps from {}: mean search time of {} runs",
+            maps.len(),
+            scenario.name,
+            opts.runs * maps.len() as u32
+        )
     } else {
         format!("{}: mean search time of {} runs", scenario.name, opts.runs)
     };
@@ -184,8 +193,10 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     });
     if several {
         summary["maps"] = json!(map_rows);
-        summary["map_derivation"] = json!("map k is the scenario named with seed SEED + k; run k of a cell on map m \
-            has the seed of run m * runs + k");
+        summary["map_derivation"] = json!(
+            "map k is the scenario named with seed SEED + k; run k of a cell on map m \
+            has the seed of run m * runs + k"
+        );
         summary["per_map_spread"] = json!(spreads);
     }
     output::write_json(&out.join("summary.json"), &summary)?;
@@ -202,11 +213,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     });
     output::write_text(&out.join("report.html"), &report::render(&page))?;
 
-    let spread_note = if several {
-        format!("{}\n", crate::spread::one_line(&spreads))
-    } else {
-        String::new()
-    };
+    let spread_note = if several { format!("{}\n", crate::spread::one_line(&spreads)) } else { String::new() };
     let text = format!(
         "{setup}{}{spread_note}\n{claims_text}\n{} runs in {wall_time_s:.2} s wall time on {} threads; \
          wrote results.csv, runs.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
@@ -263,9 +270,7 @@ impl Plan<'_> {
     fn jobs(&self) -> Vec<(usize, usize, usize, usize)> {
         let (na, nr, runs) = (self.algorithms.len(), self.robots.len(), self.runs);
         (0..self.starts.len())
-            .flat_map(|m| {
-                (0..na).flat_map(move |a| (0..nr).flat_map(move |r| (0..runs).map(move |k| (m, a, r, k))))
-            })
+            .flat_map(|m| (0..na).flat_map(move |a| (0..nr).flat_map(move |r| (0..runs).map(move |k| (m, a, r, k)))))
             .collect()
     }
 

@@ -130,8 +130,11 @@ pub fn spreads(per_map: &[Vec<CellStats>]) -> Vec<Spread> {
     let Some(first) = per_map.first() else { return Vec::new() };
     (0..first.len())
         .map(|c| {
-            let means: Vec<(usize, f64)> =
-                per_map.iter().enumerate().filter_map(|(m, cells)| cells[c].mean_search_time_s.map(|t| (m, t))).collect();
+            let means: Vec<(usize, f64)> = per_map
+                .iter()
+                .enumerate()
+                .filter_map(|(m, cells)| cells[c].mean_search_time_s.map(|t| (m, t)))
+                .collect();
             let times: Vec<f64> = means.iter().map(|&(_, t)| t).collect();
             let lo = means.iter().min_by(|a, b| a.1.total_cmp(&b.1));
             let hi = means.iter().max_by(|a, b| a.1.total_cmp(&b.1));
@@ -157,7 +160,14 @@ mod tests {
 
     fn cell(t: Option<f64>) -> CellStats {
         let recs: Vec<RunRecord> = t
-            .map(|t| RunRecord { seed: 0, search_time_s: t, rounds: 1, collisions: 0, targets_found: 9, complete: true })
+            .map(|t| RunRecord {
+                seed: 0,
+                search_time_s: t,
+                rounds: 1,
+                collisions: 0,
+                targets_found: 9,
+                complete: true,
+            })
             .into_iter()
             .collect();
         CellStats::of(Policy::Ru, 3, &recs)

@@ -27,9 +27,19 @@ fn range_pct(s: &Spread) -> Option<f64> {
 
 pub fn table(spreads: &[Spread]) -> Table {
     Table {
-        header: ["algorithm", "robots", "maps", "min (s)", "median (s)", "max (s)", "range / median", "min map", "max map"]
-            .map(String::from)
-            .to_vec(),
+        header: [
+            "algorithm",
+            "robots",
+            "maps",
+            "min (s)",
+            "median (s)",
+            "max (s)",
+            "range / median",
+            "min map",
+            "max map",
+        ]
+        .map(String::from)
+        .to_vec(),
         rows: spreads
             .iter()
             .map(|s| {
@@ -95,10 +105,7 @@ pub fn sections(rows: &[MapRow], spreads: &[Spread]) -> Vec<Section> {
 
 /// One line for the terminal: the widest spread and where it is.
 pub fn one_line(spreads: &[Spread]) -> String {
-    let widest = spreads
-        .iter()
-        .filter_map(|s| range_pct(s).map(|p| (p, s)))
-        .max_by(|a, b| a.0.total_cmp(&b.0));
+    let widest = spreads.iter().filter_map(|s| range_pct(s).map(|p| (p, s))).max_by(|a, b| a.0.total_cmp(&b.0));
     match widest {
         None => "per-map spread: no cell completed on two maps".into(),
         Some((p, s)) => format!(
@@ -120,10 +127,8 @@ pub fn svg(spreads: &[Spread]) -> Result<String, String> {
             algorithms.push(s.algorithm);
         }
     }
-    let done: Vec<(Policy, f64, f64, f64, f64)> = spreads
-        .iter()
-        .filter_map(|s| Some((s.algorithm, s.robots as f64, s.min_s?, s.median_s?, s.max_s?)))
-        .collect();
+    let done: Vec<(Policy, f64, f64, f64, f64)> =
+        spreads.iter().filter_map(|s| Some((s.algorithm, s.robots as f64, s.min_s?, s.median_s?, s.max_s?))).collect();
     let x0 = done.iter().map(|d| d.1).fold(f64::INFINITY, f64::min);
     let x1 = done.iter().map(|d| d.1).fold(f64::NEG_INFINITY, f64::max);
     let (x0, x1) = if x0.is_finite() { (x0, x1) } else { (1.0, 2.0) };
@@ -156,10 +161,15 @@ pub fn svg(spreads: &[Spread]) -> Result<String, String> {
             let dx = (k as f64 - (n - 1.0) / 2.0) * 0.08;
             let mine: Vec<_> = done.iter().filter(|d| d.0 == p).collect();
             chart
-                .draw_series(LineSeries::new(mine.iter().map(|d| (d.1 + dx, d.3)), ShapeStyle::from(&c).stroke_width(2)))
+                .draw_series(LineSeries::new(
+                    mine.iter().map(|d| (d.1 + dx, d.3)),
+                    ShapeStyle::from(&c).stroke_width(2),
+                ))
                 .map_err(|e| e.to_string())?
                 .label(p.paper_label())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], ShapeStyle::from(&c).stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], ShapeStyle::from(&c).stroke_width(2))
+                });
             chart
                 .draw_series(
                     mine.iter().map(|d| PathElement::new(vec![(d.1 + dx, d.2), (d.1 + dx, d.4)], ShapeStyle::from(&c))),
