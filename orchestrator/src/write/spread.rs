@@ -150,6 +150,13 @@ pub fn svg(spreads: &[Spread]) -> Result<String, String> {
             .axis_desc_style(("sans-serif", 16))
             .label_style(("sans-serif", 13))
             .x_labels(((x1 - x0).round() as usize).clamp(1, 20) + 1)
+            .x_label_formatter(&|x| {
+                if (x - x.round()).abs() < 1e-6 {
+                    format!("{}", x.round() as i64)
+                } else {
+                    String::new()
+                }
+            })
             .y_label_formatter(&|y| format!("{y:.0}"))
             .light_line_style(WHITE.mix(0.0))
             .draw()
@@ -171,9 +178,9 @@ pub fn svg(spreads: &[Spread]) -> Result<String, String> {
                     PathElement::new(vec![(x, y), (x + 20, y)], ShapeStyle::from(&c).stroke_width(2))
                 });
             chart
-                .draw_series(
-                    mine.iter().map(|d| PathElement::new(vec![(d.1 + dx, d.2), (d.1 + dx, d.4)], ShapeStyle::from(&c))),
-                )
+                .draw_series(mine.iter().map(|d| {
+                    PathElement::new(vec![(d.1 + dx, d.2), (d.1 + dx, d.4)], ShapeStyle::from(&c).stroke_width(2))
+                }))
                 .map_err(|e| e.to_string())?;
         }
         chart
