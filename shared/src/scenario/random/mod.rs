@@ -177,7 +177,7 @@ fn targets(rng: &mut ChaCha8Rng, w: &World, starts: &[VertexId], n: usize) -> Ve
     out
 }
 
-/// Shapes of `s` (for tests and reports).
+/// The area under the obstacles of `s` (m²), to compare with the area's.
 pub fn obstacle_area(s: &Scenario) -> f64 {
     s.obstacles
         .iter()

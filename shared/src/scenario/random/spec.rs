@@ -28,7 +28,8 @@ const DEFAULT_TARGETS: usize = 9;
 const DEFAULT_ROBOTS: usize = 3;
 const SIZE_RANGE: (f64, f64) = (8.0, 400.0);
 const MAX_DENSITY: f64 = 0.4;
-const MAX_COUNT: usize = 10_000;
+/// Targets are spread by a best-of-candidates rule, quadratic in their number.
+const MAX_COUNT: usize = 1000;
 
 /// An assumption a map may break on purpose: those that a map or the ranges
 /// can break alone (`r_safe > r_rob` is a parse error for every scenario).
