@@ -429,8 +429,8 @@ mod tests {
     fn csv_header_and_empty_fields() {
         let recs =
             [RunRecord { seed: 1, search_time_s: 10.0, rounds: 2, collisions: 0, targets_found: 3, complete: false }];
-        let cell = CellStats::of(Policy::Sequential, 4, &recs);
-        let csv = results_csv(&[cell.clone()], &[vec![cell]]);
+        let cells = vec![CellStats::of(Policy::Sequential, 4, &recs)];
+        let csv = results_csv(&cells, std::slice::from_ref(&cells));
         let mut lines = csv.lines();
         assert!(lines.next().unwrap().starts_with(
             "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,mean_rounds,mean_collisions"
