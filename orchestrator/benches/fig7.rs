@@ -20,6 +20,7 @@ fn main() {
         out: out.clone(),
         max_rounds: experiment::DEFAULT_MAX_ROUNDS,
         progress: false,
+        maps: None,
     };
     println!("threads: {}", rayon::current_num_threads());
     let mut walls = Vec::new();

@@ -39,7 +39,8 @@ enum Command {
     /// One search in-process: a summary, or one JSON object; with --out, its files.
     /// Takes the same failure and radio flags as `run`.
     Simulate {
-        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
+        /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// repulsive, sequential, ru, lfp or escape.
@@ -77,7 +78,8 @@ enum Command {
     Experiment {
         #[command(subcommand)]
         kind: Option<ExperimentKind>,
-        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
+        /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// Comma-separated algorithms.
@@ -104,6 +106,11 @@ enum Command {
         /// Compare the triangular, square and hexagonal lattices on the map (Sec. 3).
         #[arg(long)]
         grids: bool,
+        /// Average over K random maps: map k is --scenario random:SEED,OPTIONS with seed SEED + k
+        /// (needs a random scenario); results.csv, runs.csv and maps.csv say which map a number is
+        /// from, report.html shows the spread over maps.
+        #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=100_000), conflicts_with = "grids")]
+        maps: Option<u32>,
     },
     /// Write (or rewrite) DIR/replay.html, the page that plays a run back,
     /// from the files a run wrote there; prints the page's path.
@@ -114,7 +121,8 @@ enum Command {
     /// One search with one process per robot (world-server + robot-agents
     /// over iceoryx2), with failure injection; the same files as `simulate`.
     Run {
-        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
+        /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// repulsive, sequential, ru or escape (grid policies only).
@@ -137,8 +145,25 @@ enum Command {
         faults: FaultFlags,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
+    ///
+    /// Every command's --scenario takes a built-in name, a TOML file, or a random map,
+    /// generated from its seed alone (the same text gives the same map everywhere):
+    ///
+    ///   random:SEED[,size=WxH][,density=F][,passage=M][,targets=N][,robots=N][,break=ID]
+    ///
+    ///   size      area of about W x H metres, 8 to 400 each [20x16]
+    ///   density   share of the area covered by obstacles, 0 to 0.4 [0.15]
+    ///   passage   narrowest gap between obstacles and walls, m, >= W_pass = 1.6 [2]
+    ///   targets   number of targets (situation 1) [9]
+    ///   robots    default robot count [3]
+    ///   break     an assumption to break on purpose: 2.4 (r_so), 2.5 (r_c), 3.1.1 (r_st),
+    ///             3.1.2 (a pocket no vertex sees; coverage fails with it) or 3.1.3 (one
+    ///             passage `passage` wide, default 1 m); every other check still passes
+    ///
+    /// e.g. `gridswarm check random:5` or `random:7,size=30x20,density=0.2,break=3.1.2`.
+    #[command(verbatim_doc_comment)]
     Check {
-        /// Built-in scenario or TOML file.
+        /// Built-in scenario, TOML file or random:SEED[,options].
         #[arg(default_value = "paper")]
         scenario: String,
     },
@@ -154,7 +179,8 @@ enum ExperimentKind {
     /// Writes failures.csv, failures-runs.csv, failures.svg and report.html
     /// in --out and prints the table.
     Failures {
-        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
+        /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// repulsive, sequential, ru or escape (grid policies only).
@@ -188,7 +214,8 @@ enum ExperimentKind {
     /// Writes radio.csv, radio-runs.csv, radio.svg and report.html in --out
     /// and prints the table.
     Radio {
-        /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
+        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
+        /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
         /// repulsive, sequential, ru or escape (grid policies only).
@@ -365,6 +392,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             max_rounds,
             grids: false,
             kind: None,
+            maps,
         } => {
             let opts = ExperimentOptions {
                 scenario,
@@ -376,6 +404,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 out,
                 max_rounds,
                 progress: experiment::stderr_is_terminal(),
+                maps,
             };
             let (_, text) = experiment::run(&opts)?;
             emit(&text);

@@ -41,11 +41,17 @@
 //! other than 1 or 2, zero robots. The assumptions of the paper are *not*
 //! enforced: a scenario that breaks them still runs, and
 //! [`crate::assumptions::check`] says which fail.
+//!
+//! Besides files and built-ins, `random:SEED[,options]` names a map
+//! generated from the seed ([`random`]); [`Scenario::to_toml`] writes any
+//! scenario back in this format.
 
 mod gaps;
 mod locate;
+pub mod random;
 mod raw;
 mod starts;
+mod write;
 
 pub(crate) use gaps::{boundary_gap, self_passages, shape_gap, Gap};
 
@@ -172,10 +178,14 @@ impl Scenario {
         Some(Scenario::parse(text, &format!("{name}.toml")).unwrap_or_else(|e| panic!("built-in scenario: {e}")))
     }
 
-    /// A built-in scenario by name, else a scenario file by path.
+    /// A built-in scenario by name, a random map (`random:SEED[,options]`,
+    /// see [`random`]), else a scenario file by path.
     pub fn load(name_or_path: &str) -> Result<Scenario, ScenarioError> {
         if let Some(s) = Scenario::builtin(name_or_path) {
             return Ok(s);
+        }
+        if random::is_random(name_or_path) {
+            return random::load(name_or_path);
         }
         let text = std::fs::read_to_string(name_or_path).map_err(|e| {
             ScenarioError::new(
@@ -183,8 +193,10 @@ impl Scenario {
                 None,
                 "",
                 format!(
-                    "cannot read scenario file: {e} (not a built-in scenario either; those are: {})",
-                    BUILTIN.join(", ")
+                    "cannot read scenario file: {e} (not a built-in scenario either; those are: {}; \
+                     or a random map, {})",
+                    BUILTIN.join(", "),
+                    random::SYNTAX
                 ),
             )
         })?;

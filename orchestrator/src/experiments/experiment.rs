@@ -2,7 +2,9 @@
 //! every (algorithm, robot count) goes through one rayon pool; each run's
 //! seed depends only on the base seed and its cell and index ([`seeds`]),
 //! and results are collected in run order, so every file the sweep writes
-//! is the same whatever the thread count.
+//! is the same whatever the thread count. With `--maps K` the sweep runs on
+//! K random maps ([`maps`]) and pools their runs; every file says which map
+//! a number comes from.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -23,6 +25,7 @@ use serde_json::json;
 use crate::claims::{self, ClaimResult};
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
+use crate::maps;
 use crate::robots::compress;
 use crate::seeds::run_seed;
 use crate::stats::{CellStats, RunRecord};
@@ -48,6 +51,8 @@ pub struct ExperimentOptions {
     pub max_rounds: u32,
     /// Show a progress bar (only sensible when stderr is a terminal).
     pub progress: bool,
+    /// Average over this many random maps (`scenario` must be `random:...`).
+    pub maps: Option<u32>,
 }
 
 /// Everything a sweep produced.
@@ -95,38 +100,54 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     if algorithms.is_empty() || opts.robots.is_empty() {
         return Err(Error::Input("the sweep needs at least one algorithm and one robot count".into()));
     }
-    let mut scenario = contract::load_scenario(&opts.scenario)?;
-    if let Some(s) = opts.situation {
-        scenario.situation = s;
+    let mut maps = maps::resolve(&opts.scenario, opts.maps)?;
+    for m in &mut maps {
+        if let Some(s) = opts.situation {
+            m.scenario.situation = s;
+        }
     }
+    let scenario = maps[0].scenario.clone();
     // Before any run, so a bad directory fails at once.
     output::create_dir(&opts.out)?;
-    let world = scenario.world();
+    let worlds: Vec<World> = maps.iter().map(|m| m.scenario.world()).collect();
     let lfp = contract::lfp_params(&scenario);
-    let starts = place(&scenario, &world, &opts.robots)?;
+    let starts =
+        maps.iter().zip(&worlds).map(|(m, w)| place(&m.scenario, w, &opts.robots)).collect::<Result<Vec<_>>>()?;
 
     let started = Instant::now();
     let plan = Plan { algorithms: &algorithms, robots: &opts.robots, starts: &starts, runs: opts.runs as usize };
-    let records = plan.execute(&Runner::new(&world, lfp), scenario.situation, opts);
+    let runners: Vec<Runner> =
+        maps.iter().zip(&worlds).map(|(m, w)| Runner::new(w, contract::lfp_params(&m.scenario))).collect();
+    let records = plan.execute(&runners, scenario.situation, opts);
     let wall_time_s = started.elapsed().as_secs_f64();
 
-    let cells: Vec<CellStats> =
-        plan.cells().zip(records.chunks(plan.runs)).map(|((p, r), c)| CellStats::of(p, r, c)).collect();
-    let robot_rounds = plan
-        .cells()
-        .zip(records.chunks(plan.runs))
-        .map(|((_, robots), c)| c.iter().map(|x| x.rounds as u64 * robots as u64).sum::<u64>())
-        .sum();
-    let per_cell: Vec<&[RunRecord]> = records.chunks(plan.runs).collect();
+    let per_map: Vec<Vec<CellStats>> = records
+        .chunks(plan.per_map())
+        .map(|m| plan.cells().zip(m.chunks(plan.runs)).map(|((p, r), c)| CellStats::of(p, r, c)).collect())
+        .collect();
+    let pooled = plan.pooled_runs(&records);
+    let cells: Vec<CellStats> = plan.cells().zip(&pooled).map(|((p, r), runs)| CellStats::of(p, r, runs)).collect();
+    let robot_rounds = plan.jobs().iter().zip(&records).map(|(j, x)| x.rounds as u64 * opts.robots[j.2] as u64).sum();
+    // Paired run by run: run k of every algorithm shares its seed and map.
+    let per_cell: Vec<&[RunRecord]> = pooled.iter().map(Vec::as_slice).collect();
     let claims = claims::evaluate(&cells, &per_cell);
+    let map_rows = maps::rows(&maps);
+    let spreads = maps::spreads(&per_map);
+    let several = opts.maps.is_some();
     let claims_text = incomplete_note(&cells, opts.max_rounds) + &claims::render(&claims);
+    let maps_line = if several { maps::summary_line(&maps) } else { String::new() };
     let setup = format!(
-        "scenario {} ({} grid), situation {}, {} runs per cell, base seed {}, max {} rounds\n\
-         params: {}\nlfp: {}\n",
+        "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {}, max {} rounds\n\
+         {maps_line}params: {}\nlfp: {}\n",
         scenario.name,
         scenario.grid.name(),
         scenario.situation.number(),
         opts.runs,
+        if several {
+            format!(" and map ({} runs per cell in all)", opts.runs as usize * maps.len())
+        } else {
+            String::new()
+        },
         opts.seed,
         opts.max_rounds,
         serde_json::to_string(&scenario.params).expect("params serialise"),
@@ -134,15 +155,28 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     );
 
     let out = &opts.out;
-    output::write_text(&out.join("results.csv"), &results_csv(&cells))?;
+    let map_cells: &[Vec<CellStats>] = if several { &per_map } else { &[] };
+    output::write_text(&out.join("results.csv"), &results_csv(&cells, map_cells))?;
     output::write_file(&out.join("runs.csv"), |w| plan.write_runs_csv(w, &records))?;
+    if several {
+        output::write_text(&out.join("maps.csv"), &maps::csv(&map_rows))?;
+    }
     let fig_path = out.join("fig7.svg");
-    let title = format!("{}: mean search time of {} runs", scenario.name, opts.runs);
+    let title = if several {
+        format!(
+            "{} random maps from {}: mean search time of {} runs",
+            maps.len(),
+            scenario.name,
+            opts.runs * maps.len() as u32
+        )
+    } else {
+        format!("{}: mean search time of {} runs", scenario.name, opts.runs)
+    };
     let svg = plot::fig7_svg(&cells, &algorithms, &title)
         .map_err(|message| Error::Plot { path: fig_path.clone(), message })?;
     output::write_text(&fig_path, &svg)?;
     output::write_text(&out.join("claims.txt"), &format!("{setup}\n{claims_text}"))?;
-    let summary = json!({
+    let mut summary = json!({
         "scenario": scenario.name,
         "grid": scenario.grid.name(),
         "situation": scenario.situation.number(),
@@ -160,6 +194,14 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         "cells": cells,
         "claims": claims,
     });
+    if several {
+        summary["maps"] = json!(map_rows);
+        summary["map_derivation"] = json!(
+            "map k is the scenario named with seed SEED + k; run k of a cell on map m \
+            has the seed of run m * runs + k"
+        );
+        summary["per_map_spread"] = json!(spreads);
+    }
     output::write_json(&out.join("summary.json"), &summary)?;
     let page = report::fig7(&report::Fig7Inputs {
         summary: &summary,
@@ -170,15 +212,18 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         wall_time_s,
         threads: rayon::current_num_threads(),
         runs_total: records.len(),
+        extra: if several { crate::spread::sections(&map_rows, &spreads) } else { Vec::new() },
     });
     output::write_text(&out.join("report.html"), &report::render(&page))?;
 
+    let spread_note = if several { format!("{}\n", crate::spread::one_line(&spreads)) } else { String::new() };
     let text = format!(
-        "{setup}{}\n{claims_text}\n{} runs in {wall_time_s:.2} s wall time on {} threads; \
-         wrote results.csv, runs.csv, fig7.svg, claims.txt, summary.json, report.html in {}\n",
+        "{setup}{}{spread_note}\n{claims_text}\n{} runs in {wall_time_s:.2} s wall time on {} threads; \
+         wrote results.csv, runs.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
         table(&cells),
         records.len(),
         rayon::current_num_threads(),
+        if several { "maps.csv, " } else { "" },
         out.display()
     );
     Ok((Sweep { cells, claims, wall_time_s, robot_rounds }, text))
@@ -203,12 +248,13 @@ fn place(scenario: &Scenario, world: &World, robots: &[usize]) -> Result<Vec<Vec
     Ok(starts)
 }
 
-/// The sweep's runs in their fixed order: algorithm, then robot count, then
-/// run index. Every output is laid out in this order.
+/// The sweep's runs in their fixed order: map, then algorithm, then robot
+/// count, then run index. Every output is laid out in this order.
 struct Plan<'a> {
     algorithms: &'a [Policy],
     robots: &'a [usize],
-    starts: &'a [Vec<VertexId>],
+    /// `starts[map][robot-count index]`.
+    starts: &'a [Vec<Vec<VertexId>>],
     runs: usize,
 }
 
@@ -218,28 +264,49 @@ impl Plan<'_> {
         self.algorithms.iter().flat_map(|&p| self.robots.iter().map(move |&r| (p, r)))
     }
 
-    /// (algorithm index, robot-count index, run index) of each run, in order.
-    fn jobs(&self) -> Vec<(usize, usize, usize)> {
-        let (nr, runs) = (self.robots.len(), self.runs);
-        (0..self.algorithms.len()).flat_map(|a| (0..nr).flat_map(move |r| (0..runs).map(move |k| (a, r, k)))).collect()
+    /// Runs on one map.
+    fn per_map(&self) -> usize {
+        self.algorithms.len() * self.robots.len() * self.runs
+    }
+
+    /// (map, algorithm index, robot-count index, run index) of each run, in order.
+    fn jobs(&self) -> Vec<(usize, usize, usize, usize)> {
+        let (na, nr, runs) = (self.algorithms.len(), self.robots.len(), self.runs);
+        (0..self.starts.len())
+            .flat_map(|m| (0..na).flat_map(move |a| (0..nr).flat_map(move |r| (0..runs).map(move |k| (m, a, r, k)))))
+            .collect()
+    }
+
+    /// Each cell's runs over every map, in map order, then run order (so
+    /// run `i` of every cell has the same map and seed).
+    fn pooled_runs(&self, records: &[RunRecord]) -> Vec<Vec<RunRecord>> {
+        let cell_len = self.runs;
+        self.cells()
+            .enumerate()
+            .map(|(c, _)| {
+                records.chunks(self.per_map()).flat_map(|m| m[c * cell_len..(c + 1) * cell_len].iter().copied()).collect()
+            })
+            .collect()
     }
 
     /// Runs everything on all cores. `collect` keeps the job order whatever
     /// thread ran a job, and the statistics are summed in that order, so the
     /// output does not depend on scheduling.
-    fn execute(&self, runner: &Runner, situation: Situation, opts: &ExperimentOptions) -> Vec<RunRecord> {
+    fn execute(&self, runners: &[Runner], situation: Situation, opts: &ExperimentOptions) -> Vec<RunRecord> {
         let jobs = self.jobs();
         let bar = progress_bar(jobs.len() as u64, opts.progress);
         let records = jobs
             .par_iter()
-            .map(|&(a, r, k)| {
-                let seed = run_seed(opts.seed, self.robots[r], k as u64);
+            .map(|&(m, a, r, k)| {
+                // Map 0 keeps the seeds of a one-map sweep; each later map
+                // continues the run index, so no two runs share a seed.
+                let seed = run_seed(opts.seed, self.robots[r], (m * self.runs + k) as u64);
                 let mut cfg = RunConfig::new(self.algorithms[a], seed, situation);
                 cfg.max_rounds = opts.max_rounds;
                 // The sweep keeps numbers only: no poses, no raster pass.
                 cfg.record_trajectories = false;
                 cfg.measure_coverage = false;
-                let res = runner.run(&self.starts[r], &cfg);
+                let res = runners[m].run(&self.starts[m][r], &cfg);
                 bar.inc(1);
                 RunRecord {
                     seed,
@@ -257,11 +324,11 @@ impl Plan<'_> {
 
     /// `runs.csv`: every run, for analyses the summary does not foresee.
     fn write_runs_csv(&self, w: &mut impl Write, records: &[RunRecord]) -> std::io::Result<()> {
-        writeln!(w, "algorithm,robots,run,seed,search_time_s,rounds,collisions,targets_found,complete")?;
-        for ((a, r, k), rec) in self.jobs().into_iter().zip(records) {
+        writeln!(w, "algorithm,robots,run,seed,search_time_s,rounds,collisions,targets_found,complete,map")?;
+        for ((m, a, r, k), rec) in self.jobs().into_iter().zip(records) {
             writeln!(
                 w,
-                "{},{},{k},{},{:.6},{},{},{},{}",
+                "{},{},{k},{},{:.6},{},{},{},{},{m}",
                 self.algorithms[a].name(),
                 self.robots[r],
                 rec.seed,
@@ -294,17 +361,23 @@ fn incomplete_note(cells: &[CellStats], max_rounds: u32) -> String {
 }
 
 pub const RESULTS_HEADER: &str = "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,\
-                                  mean_rounds,mean_collisions,label,median_search_time_s,mean_targets_found";
+                                  mean_rounds,mean_collisions,label,median_search_time_s,mean_targets_found,map";
 
-/// `results.csv`: one row per cell; empty fields where there were too few
-/// completed runs for the statistic.
-pub fn results_csv(cells: &[CellStats]) -> String {
+/// `results.csv`: one row per cell over every map (`map` = `all`), then,
+/// with several maps, one per cell and map (`map` = its index, as in
+/// maps.csv); empty fields where there were too few completed runs for the
+/// statistic.
+pub fn results_csv(cells: &[CellStats], per_map: &[Vec<CellStats>]) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "{RESULTS_HEADER}");
-    for c in cells {
+    let tagged = cells
+        .iter()
+        .map(|c| (c, "all".to_string()))
+        .chain(per_map.iter().enumerate().flat_map(|(m, cs)| cs.iter().map(move |c| (c, m.to_string()))));
+    for (c, map) in tagged {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},\"{}\",{},{:.6}",
+            "{},{},{},{},{},{},{},{},{},\"{}\",{},{:.6},{map}",
             c.algorithm.name(),
             c.robots,
             c.runs,
@@ -356,11 +429,13 @@ mod tests {
     fn csv_header_and_empty_fields() {
         let recs =
             [RunRecord { seed: 1, search_time_s: 10.0, rounds: 2, collisions: 0, targets_found: 3, complete: false }];
-        let csv = results_csv(&[CellStats::of(Policy::Sequential, 4, &recs)]);
+        let cells = vec![CellStats::of(Policy::Sequential, 4, &recs)];
+        let csv = results_csv(&cells, std::slice::from_ref(&cells));
         let mut lines = csv.lines();
         assert!(lines.next().unwrap().starts_with(
             "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,mean_rounds,mean_collisions"
         ));
-        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000");
+        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,all");
+        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,0");
     }
 }

@@ -2,12 +2,13 @@
 //! sweep (`experiment`), `failures`, `radio`, `scale`, the lattice
 //! comparison (`grids`), the paper's claims, and the pieces they share:
 //! running jobs on either engine (`sweep`), reading a run's figures
-//! (`tally`), statistics and seeds.
+//! (`tally`), statistics, seeds, and the maps a sweep runs on (`maps`).
 
 pub mod claims;
 pub mod experiment;
 pub mod failures;
 pub mod grids;
+pub mod maps;
 pub mod radio;
 pub mod scale;
 pub mod seeds;

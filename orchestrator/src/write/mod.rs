@@ -10,4 +10,5 @@ pub mod replay;
 pub mod report;
 pub mod routes;
 pub mod rundir;
+pub mod spread;
 pub mod staging;

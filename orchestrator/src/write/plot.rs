@@ -8,7 +8,7 @@ use crate::stats::CellStats;
 
 /// Line colours by algorithm, fixed so that one algorithm looks the same in
 /// every figure the project makes.
-fn colour(p: Policy) -> RGBColor {
+pub(crate) fn colour(p: Policy) -> RGBColor {
     match p {
         Policy::Lfp => RGBColor(0x8c, 0x56, 0x4b),
         Policy::Ru => RGBColor(0xff, 0x7f, 0x0e),

@@ -337,6 +337,8 @@ pub struct Fig7Inputs<'a> {
     pub wall_time_s: f64,
     pub threads: usize,
     pub runs_total: usize,
+    /// Sections after the results (the per-map spread of a sweep over maps).
+    pub extra: Vec<Section>,
 }
 
 /// The Fig. 7 sweep's report.
@@ -372,47 +374,58 @@ pub fn fig7(x: &Fig7Inputs) -> Report {
     if !x.incomplete_note.trim().is_empty() {
         claims_blocks.insert(0, Block::Text(x.incomplete_note.trim().to_string()));
     }
+    let mut sections = vec![
+        Section::new(
+            "Mean search time",
+            vec![Block::Figure {
+                svg: x.fig7_svg.to_string(),
+                caption: "Mean simulated search time of the completed runs against the number of robots, \
+                          with 95% confidence intervals (as the paper's Fig. 7)."
+                    .into(),
+            }],
+        ),
+        Section::new("Claims", claims_blocks),
+        Section::new("Results", vec![Block::Table(cells_table(x.cells))]),
+    ];
+    sections.extend(x.extra.iter().cloned());
+    sections.push(Section::new("Parameters", vec![Block::Params(setup)]));
+    sections.push(Section::new("Files", vec![Block::Files(files(s.get("maps").is_some()))]));
+    let maps = s.get("maps").and_then(Value::as_array).map(Vec::len);
     Report {
-        title: format!("Fig. 7 sweep: {} scenario", get("scenario")),
+        title: match maps {
+            Some(k) => format!("Fig. 7 sweep: {k} random maps from {}", get("scenario")),
+            None => format!("Fig. 7 sweep: {} scenario", get("scenario")),
+        },
         subtitle: format!(
-            "{} runs per cell, base seed {}, situation {}; {} runs in {:.2} s wall time on {} threads; \
+            "{} runs per cell{}, base seed {}, situation {}; {} runs in {:.2} s wall time on {} threads; \
              claims: {holds} of {evaluated} evaluated hold",
             get("runs"),
+            if maps.is_some() { " and map" } else { "" },
             get("seed"),
             get("situation"),
             x.runs_total,
             x.wall_time_s,
             x.threads
         ),
-        sections: vec![
-            Section::new(
-                "Mean search time",
-                vec![Block::Figure {
-                    svg: x.fig7_svg.to_string(),
-                    caption: "Mean simulated search time of the completed runs against the number of robots, \
-                              with 95% confidence intervals (as the paper's Fig. 7)."
-                        .into(),
-                }],
-            ),
-            Section::new("Claims", claims_blocks),
-            Section::new("Results", vec![Block::Table(cells_table(x.cells))]),
-            Section::new("Parameters", vec![Block::Params(setup)]),
-            Section::new(
-                "Files",
-                vec![Block::Files(
-                    [
-                        ("results.csv", "the table above"),
-                        ("runs.csv", "every run: seed, time, rounds, collisions, targets"),
-                        ("fig7.svg", "the figure"),
-                        ("claims.txt", "the claim checks as text"),
-                        ("summary.json", "everything above as JSON"),
-                    ]
-                    .map(|(a, b)| (a.to_string(), b.to_string()))
-                    .to_vec(),
-                )],
-            ),
-        ],
+        sections,
     }
+}
+
+/// The files a Fig. 7 sweep writes beside its report.
+fn files(maps: bool) -> Vec<(String, String)> {
+    let mut f = vec![
+        ("results.csv", "the table above (map = all), and with several maps each map's cells"),
+        ("runs.csv", "every run: seed, time, rounds, collisions, targets, map"),
+    ];
+    if maps {
+        f.push(("maps.csv", "every map: its scenario name (to rerun it alone), draws, time to make, obstacles"));
+    }
+    f.extend([
+        ("fig7.svg", "the figure"),
+        ("claims.txt", "the claim checks as text"),
+        ("summary.json", "everything above as JSON"),
+    ]);
+    f.into_iter().map(|(a, b)| (a.to_string(), b.to_string())).collect()
 }
 
 /// A table as aligned text for the terminal: the first column left-aligned,

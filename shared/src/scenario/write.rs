@@ -1,0 +1,76 @@
+//! A scenario written back as a scenario file, so a generated map can be
+//! kept, read, edited and run like a hand-made one. Numbers are written in
+//! Rust's shortest form that reads back to the same `f64`, so
+//! `Scenario::parse(&s.to_toml())` gives `s` again.
+
+use std::fmt::Write as _;
+
+use super::{Scenario, Starts};
+use crate::geometry::{Point, Shape};
+use crate::lfp::LfpParams;
+
+fn xy(p: &Point) -> String {
+    format!("[{}, {}]", p.x, p.y)
+}
+
+fn list(points: &[Point]) -> String {
+    points.iter().map(xy).collect::<Vec<_>>().join(", ")
+}
+
+/// TOML's basic string: quotes and backslashes escaped.
+fn quoted(s: &str) -> String {
+    format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+}
+
+impl Scenario {
+    /// This scenario as a scenario file; `header` lines become comments on top.
+    pub fn to_toml(&self, header: &str) -> String {
+        let mut s = String::new();
+        for line in header.lines() {
+            let _ = writeln!(s, "# {line}");
+        }
+        let _ = writeln!(s, "name = {}", quoted(&self.name));
+        let _ = writeln!(s, "robots = {}", self.robots);
+        let _ = writeln!(s, "situation = {}", self.situation.number());
+        let _ = writeln!(s, "grid = {}", quoted(self.grid.name()));
+        let _ = writeln!(s, "targets = [{}]", list(&self.targets));
+        let p = &self.params;
+        let _ = writeln!(s, "\n[params]");
+        for (k, v) in [
+            ("a", p.a),
+            ("r_rob", p.r_rob),
+            ("r_safe", p.r_safe),
+            ("r_so", p.r_so),
+            ("r_st", p.r_st),
+            ("r_c", p.r_c),
+            ("t_rot", p.t_rot),
+            ("t_trans", p.t_trans),
+            ("t_choice", p.t_choice),
+            ("t_exchange", p.t_exchange),
+            ("t_hop", p.t_hop),
+            ("t_wait", p.t_wait),
+        ] {
+            let _ = writeln!(s, "{k} = {v:?}");
+        }
+        let _ = writeln!(s, "retries = {}\nsuspect_rounds = {}", p.retries, p.suspect_rounds);
+        let _ = writeln!(s, "\n[area]\npolygon = [{}]", list(&self.area.points));
+        for o in &self.obstacles {
+            let _ = writeln!(s, "\n[[obstacles]]");
+            let _ = match o {
+                Shape::Polygon(poly) => writeln!(s, "polygon = [{}]", list(&poly.points)),
+                Shape::Circle(c) => writeln!(s, "circle = {{ center = {}, radius = {:?} }}", xy(&c.center), c.radius),
+            };
+        }
+        let _ = match &self.starts {
+            Starts::Border { from } => {
+                writeln!(s, "\n[starts]\nborder = {{ from = {} }}", xy(from))
+            }
+            Starts::Points(pts) => writeln!(s, "\n[starts]\npoints = [{}]", list(pts)),
+        };
+        if self.lfp != LfpParams::default() {
+            let table = toml::to_string(&self.lfp).expect("LfpParams is a flat table of numbers");
+            let _ = write!(s, "\n[lfp]\n{table}");
+        }
+        s
+    }
+}
