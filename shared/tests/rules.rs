@@ -24,7 +24,7 @@ fn at(grid: &Grid, i: i32, j: i32) -> VertexId {
 }
 
 fn robot(grid: &Grid, policy: Policy, seed: u64, id: u16, v: VertexId) -> Robot<'_> {
-    Robot::new(grid, RobotConfig { id, policy, situation: Situation::Two, targets_total: 0, r_safe: 0.3, seed }, v)
+    Robot::new(grid, RobotConfig::new(id, policy, Situation::Two, 0, 0.3, seed), v)
 }
 
 /// The neighbour of `v` in slot `d`.
