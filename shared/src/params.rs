@@ -69,7 +69,7 @@ mod defaults {
         1
     }
     pub fn choices_update_maps() -> bool {
-        false
+        true
     }
 }
 

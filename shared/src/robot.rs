@@ -23,7 +23,7 @@ use crate::choice::{self, ChoiceRule, NeighbourView, View};
 use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::MAX_DEGREE;
-use crate::map::{Map, RobotId};
+use crate::map::{Map, RobotId, SENSED};
 use crate::params::Situation;
 use crate::policy::Policy;
 use crate::rng::robot_rng;
@@ -118,6 +118,10 @@ pub struct Robot<'g> {
     rule: Box<dyn ChoiceRule>,
     /// For the stop rule's reachability test.
     paths: Paths,
+    /// Vertices this round's choices heard marked visited, and nothing
+    /// else did ([`Robot::receive_choice`]).
+    /// With whether the claim made the vertex known too.
+    claims: Vec<(VertexId, bool)>,
     /// Scratch for the rule's view, kept so choosing never allocates.
     views: Vec<NeighbourView>,
     blocked_now: Vec<VertexId>,
@@ -152,6 +156,7 @@ impl<'g> Robot<'g> {
             accounted: Vec::with_capacity(8),
             bodies: Vec::new(),
             rule,
+            claims: Vec::new(),
             paths: Paths::default(),
             views: Vec::with_capacity(16),
             blocked_now: Vec::new(),
@@ -202,6 +207,24 @@ impl<'g> Robot<'g> {
         self.occupied_now
     }
 
+    /// A claim lasts one round: by the next the chooser's own map, sensed
+    /// on the vertex, says it was visited. A claim nobody sensed (the
+    /// chooser crashed, was refused, or is out of range) is dropped, so the
+    /// vertex is unvisited again: kept, it would stop robots by rule (4)
+    /// on a map that ends at a vertex no one has seen around (in situation
+    /// 1 ending the search with targets unfound), and a crashed chooser's
+    /// claim would keep the others from ever going there.
+    fn drop_claims(&mut self) {
+        for (v, new) in self.claims.drain(..) {
+            if self.map.open[v as usize] & SENSED == 0 {
+                self.map.visited.clear(v as usize);
+                if new {
+                    self.map.known.clear(v as usize);
+                }
+            }
+        }
+    }
+
     /// Steps 1-2: start round `round` with this round's readings. Nobody is
     /// a neighbour until its map or choice is heard.
     pub fn sense(&mut self, round: u32, s: &Sensing) {
@@ -210,6 +233,7 @@ impl<'g> Robot<'g> {
         self.accounted.clear();
         self.open_now = s.open;
         self.occupied_now = s.occupied;
+        self.drop_claims();
         self.map.record_sensing(self.grid, self.pos, s.open);
         self.learn_targets(s.targets);
         self.nbrs.clear();
@@ -363,12 +387,13 @@ impl<'g> Robot<'g> {
         match self.neighbour(from, at) {
             Some(n) => {
                 n.choice = Some(next);
-                if self.cfg.choices_update_maps && self.cfg.policy.sequential() {
+                if self.cfg.choices_update_maps && self.cfg.policy.sequential() && !self.map.visited.get(next as usize) {
                     // "the receivers will update their maps": the vertex
-                    // counts as visited now; the chooser's own map marks it
-                    // when it gets there.
+                    // counts as visited for the rest of the round.
+                    let new = !self.map.known.get(next as usize);
                     self.map.visited.set(next as usize);
                     self.map.known.set(next as usize);
+                    self.claims.push((next, new));
                 }
                 true
             }

@@ -8,10 +8,16 @@
 //! across rounds while it stays unvisited and reachable by a shortest-path
 //! step the core allows, so equal targets never make it dither; a blocked
 //! step is replaced by another shortest path's first step, towards the same
-//! target or then any other nearest one, before rules (1)/(2) take over.
+//! target or then any other nearest one, then by the first step towards
+//! the nearest unvisited vertex the robot can start towards this round
+//! (a detour), before rules (1)/(2) take over. A fresh target is one no
+//! searching neighbour is nearer to, when there is one, so neighbours
+//! share the unvisited vertices out instead of racing for the same one.
 
+use super::frontier::Frontier;
 use super::paths::Paths;
 use super::repulsive::repel;
+use rand::Rng;
 use super::{uniform, ChoiceRule, RuleRng, View};
 use crate::grid::VertexId;
 
@@ -24,6 +30,10 @@ pub struct Escape {
     paths: Paths,
     nearest: Vec<VertexId>,
     target: Option<VertexId>,
+    /// Distances from the searching neighbours, for sharing out targets.
+    others: Paths,
+    sources: Vec<VertexId>,
+    detour: Frontier,
 }
 
 impl ChoiceRule for Escape {
@@ -34,6 +44,11 @@ impl ChoiceRule for Escape {
             return repel(view, &unvisited, rng);
         }
         if let Some(step) = self.towards_unvisited(view, rng) {
+            return Some(step);
+        }
+        // Every shortest path is blocked this round: a longer way round
+        // still beats a step over visited ground.
+        if let Some(step) = self.detour.towards_reachable(view, rng) {
             return Some(step);
         }
         repel(view, &visited, rng)
@@ -49,7 +64,7 @@ impl Escape {
             }
         }
         self.target = None;
-        self.paths.nearest_unvisited(view.grid, view.map, view.position, view.blocked, &mut self.nearest)?;
+        self.nearest_mine(view)?;
         for _ in 0..MAX_TRIES.min(self.nearest.len()) {
             let k = if self.nearest.len() == 1 { 0 } else { rng.random_range(0..self.nearest.len()) };
             let t = self.nearest.swap_remove(k);
@@ -61,6 +76,25 @@ impl Escape {
         }
         None
     }
+
+    /// The nearest unvisited vertices no searching neighbour is nearer to
+    /// (on this robot's map, from where it will be), so that neighbours
+    /// head for different places; all the nearest when every one is
+    /// nearer to someone else.
+    fn nearest_mine(&mut self, view: &View<'_>) -> Option<u32> {
+        self.sources.clear();
+        self.sources.extend(view.neighbours.iter().filter(|n| n.searching).map(|n| n.choice.unwrap_or(n.at)));
+        if !self.sources.is_empty() {
+            self.others.distances_from(view.grid, view.map, &self.sources, view.blocked);
+            let others = &self.others;
+            let d = self.paths.nearest_where(view.grid, view.map, view.position, view.blocked, &mut self.nearest, |v, d| {
+                others.dist(v).is_none_or(|o| d <= o)
+            });
+            if d.is_some() {
+                return d;
+            }
+        }
+        self.paths.nearest_unvisited(view.grid, view.map, view.position, view.blocked, &mut self.nearest)
+    }
 }
 
-use rand::Rng;

@@ -25,13 +25,8 @@ impl ChoiceRule for Frontier {
         if !unvisited.is_empty() {
             return uniform(rng, &unvisited);
         }
-        self.close(view);
-        if self.paths.nearest_unvisited(view.grid, view.map, view.position, &self.closed, &mut self.nearest).is_some() {
-            let t = uniform(rng, &self.nearest)?;
-            let steps = self.paths.first_steps(view, t, &self.closed);
-            if let Some(s) = uniform(rng, &steps) {
-                return Some(s);
-            }
+        if let Some(s) = self.towards_reachable(view, rng) {
+            return Some(s);
         }
         // Every frontier is out of reach this round (robots in the way, or
         // none is left that this robot can reach): a random step keeps two
@@ -41,6 +36,17 @@ impl ChoiceRule for Frontier {
 }
 
 impl Frontier {
+    /// The first step of a shortest path to a nearest unvisited vertex
+    /// among those the robot can start towards this round (its first step
+    /// a candidate); `None` when there is none.
+    pub fn towards_reachable(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
+        self.close(view);
+        self.paths.nearest_unvisited(view.grid, view.map, view.position, &self.closed, &mut self.nearest)?;
+        let t = uniform(rng, &self.nearest)?;
+        let steps = self.paths.first_steps(view, t, &self.closed);
+        uniform(rng, &steps)
+    }
+
     fn close(&mut self, view: &View<'_>) {
         self.closed.clear();
         self.closed.extend_from_slice(view.blocked);

@@ -86,6 +86,20 @@ impl Paths {
         blocked: &[VertexId],
         out: &mut Vec<VertexId>,
     ) -> Option<u32> {
+        self.nearest_where(grid, map, from, blocked, out, |_, _| true)
+    }
+
+    /// [`Paths::nearest_unvisited`] among the unvisited vertices `v` at
+    /// distance `d` for which `accept(v, d)` holds.
+    pub fn nearest_where(
+        &mut self,
+        grid: &Grid,
+        map: &Map,
+        from: VertexId,
+        blocked: &[VertexId],
+        out: &mut Vec<VertexId>,
+        accept: impl Fn(VertexId, u32) -> bool,
+    ) -> Option<u32> {
         out.clear();
         let g = self.start(grid.len(), &[from], blocked);
         let mut level = None;
@@ -94,13 +108,19 @@ impl Paths {
             if level.is_some_and(|l| d > l) {
                 return true;
             }
-            if v != from && !map.visited.get(v as usize) {
+            if v != from && !map.visited.get(v as usize) && accept(v, d) {
                 level = Some(d);
                 out.push(v);
             }
             false
         });
         level
+    }
+
+    /// Distances from the nearest of `sources` to every reachable vertex.
+    pub fn distances_from(&mut self, grid: &Grid, map: &Map, sources: &[VertexId], blocked: &[VertexId]) {
+        let g = self.start(grid.len(), sources, blocked);
+        self.run(grid, map, g, |_, _| false);
     }
 
     /// Distances from every reachable vertex to `to` (edges are
