@@ -41,7 +41,7 @@ enum Command {
         /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru, lfp or escape.
+        /// repulsive, sequential, ru, lfp, escape or frontier.
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots [default: the scenario's].
@@ -116,7 +116,7 @@ enum Command {
         /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru or escape (grid policies only).
+        /// repulsive, sequential, ru, escape, frontier, or one --agent-bin lists (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots [default: the scenario's].
@@ -134,6 +134,11 @@ enum Command {
         distributed: Distributed,
         #[command(flatten)]
         faults: FaultFlags,
+        /// The robots' program instead of robot-agent: one made with
+        /// `robot_agent::main_with` and its own choice rules, whose names
+        /// `--algorithm` then accepts.
+        #[arg(long)]
+        agent_bin: Option<PathBuf>,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     Check {
@@ -156,7 +161,7 @@ enum ExperimentKind {
         /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru or escape (grid policies only).
+        /// repulsive, sequential, ru, escape or frontier (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots (the paper's Fig. 7 goes up to 13).
@@ -190,7 +195,7 @@ enum ExperimentKind {
         /// Built-in scenario (paper, open, cave, large, small) or a TOML file.
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru or escape (grid policies only).
+        /// repulsive, sequential, ru, escape or frontier (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Loss probabilities per transmission per link, each 0 to 1.
@@ -236,7 +241,7 @@ enum ExperimentKind {
         /// Scenario for every count [default: paper up to 13 robots, large above].
         #[arg(long)]
         scenario: Option<String>,
-        /// repulsive, sequential, ru or escape (grid policies only).
+        /// repulsive, sequential, ru, escape or frontier (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         #[command(flatten)]
@@ -382,7 +387,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Replay { dir } => {
             emit(&format!("{}\n", gridswarm_orchestrator::replay::write(&dir)?.display()));
         }
-        Command::Run { scenario, algorithm, robots, seed, distributed: d, out, json, faults } => {
+        Command::Run { scenario, algorithm, robots, seed, distributed: d, out, json, faults, agent_bin: _ } => {
             let base = RunBase {
                 scenario,
                 algorithm,
@@ -410,6 +415,11 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
 }
 
 fn main() -> ExitCode {
+    // Before parsing: the agent's algorithms are names `--algorithm` accepts.
+    if let Err(e) = gridswarm_orchestrator::cli::agents::from_args(&std::env::args_os().collect::<Vec<_>>()) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if !e.use_stderr() => {

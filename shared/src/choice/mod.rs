@@ -10,10 +10,16 @@
 //!
 //! Built-in rules live one per file ([`repulsive`], [`sequential`],
 //! [`ru`], [`escape`], [`frontier`]); [`paths`] holds the breadth-first
-//! search several of them share. A researcher's rule is one file too:
-//! implement [`ChoiceRule`], [`register`] it under a name before parsing
-//! arguments, and `--algorithm NAME` selects it (see
-//! `robot-agent/examples/my_rule.rs`).
+//! search several of them share. A researcher's rule is one file too,
+//! implementing [`ChoiceRule`], made known by name in one of two ways:
+//!
+//! - in this repository: put the file here and a line in [`EXTRA`]; every
+//!   program (`gridswarm simulate`, `gridswarm run`'s robot-agents) then
+//!   accepts `--algorithm NAME`;
+//! - in a program of one's own: [`register`] it before parsing arguments,
+//!   and for `gridswarm run` make that program the agent
+//!   (`robot_agent::main_with`, then `--agent-bin PATH`); see
+//!   `robot-agent/examples/my_rule.rs`, which does both.
 
 pub mod escape;
 pub mod frontier;
@@ -30,7 +36,11 @@ use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::MAX_DEGREE;
 use crate::map::{Map, RobotId};
 
-pub use registry::{register, rule_for, RuleName};
+pub use registry::{register, rule_for, Factory, RuleName};
+
+/// Rules compiled into every program of the workspace, by name: one line
+/// per rule added in this folder.
+pub const EXTRA: &[(&str, Factory)] = &[];
 
 /// The generator a rule draws from: the robot's own, seeded from the run.
 pub type RuleRng = ChaCha8Rng;

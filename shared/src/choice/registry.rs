@@ -5,7 +5,7 @@
 //! process that only passes the policy on (the world-server) interns the
 //! name without knowing the rule; the one that runs robots must have it.
 
-use std::sync::RwLock;
+use std::sync::{Once, RwLock};
 
 use super::{escape::Escape, frontier::Frontier, repulsive::Repulsive, ru::Ru, sequential::Sequential, ChoiceRule};
 use crate::policy::Policy;
@@ -23,6 +23,17 @@ struct Entry {
 }
 
 static CUSTOM: RwLock<Vec<Entry>> = RwLock::new(Vec::new());
+static EXTRA_ONCE: Once = Once::new();
+
+/// [`super::EXTRA`] registered, before any look-up.
+fn with_extra() {
+    EXTRA_ONCE.call_once(|| {
+        for &(name, factory) in super::EXTRA {
+            // A bad name in EXTRA is a programming error the tests catch.
+            let _ = intern_with(name, Some(factory));
+        }
+    });
+}
 
 const MAX_NAME: usize = 32;
 
@@ -65,23 +76,27 @@ fn intern_with(name: &str, factory: Option<Factory>) -> Result<RuleName, String>
 /// scenario files accept it from now on, and robots built here run
 /// `factory()`'s rule. Registering a name again replaces its factory.
 pub fn register(name: &str, factory: Factory) -> Result<Policy, String> {
+    with_extra();
     intern_with(name, Some(factory)).map(Policy::Custom)
 }
 
 /// `name` as a policy some other program runs (robots are built
 /// elsewhere, e.g. by an agent binary that registered it).
 pub fn announce(name: &str) -> Result<Policy, String> {
+    with_extra();
     intern_with(name, None).map(Policy::Custom)
 }
 
 /// The custom policy named `name`, if registered or announced.
 pub fn lookup(name: &str) -> Option<Policy> {
+    with_extra();
     let all = CUSTOM.read().unwrap_or_else(|e| e.into_inner());
     all.iter().position(|e| e.name == name).map(|k| Policy::Custom(RuleName(k as u16)))
 }
 
 /// The names registered or announced so far, in order.
 pub fn custom_names() -> Vec<&'static str> {
+    with_extra();
     CUSTOM.read().unwrap_or_else(|e| e.into_inner()).iter().map(|e| e.name).collect()
 }
 
@@ -118,5 +133,6 @@ pub fn rule_for(policy: Policy) -> Result<Box<dyn ChoiceRule>, String> {
 /// Intern `name` for deserialization: any well-formed name passes here;
 /// whether it can run is checked where robots are built.
 pub(crate) fn intern(name: &str) -> Result<RuleName, String> {
+    with_extra();
     intern_with(name, None)
 }
