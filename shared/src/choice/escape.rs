@@ -12,11 +12,14 @@
 //! the nearest unvisited vertex the robot can start towards this round
 //! (a detour), before rules (1)/(2) take over. A fresh target is one no
 //! searching neighbour is nearer to, when there is one, so neighbours
-//! share the unvisited vertices out instead of racing for the same one.
+//! share the unvisited vertices out instead of racing for the same one;
+//! among equally near ones, those farthest from the neighbours' centre
+//! (rule (2)'s spreading); and a kept target is given up once a neighbour
+//! is more than one step nearer to it.
 
 use super::frontier::Frontier;
 use super::paths::Paths;
-use super::repulsive::repel;
+use super::repulsive::{centre, repel, TIE};
 use rand::Rng;
 use super::{uniform, ChoiceRule, RuleRng, View};
 use crate::grid::VertexId;
@@ -57,7 +60,7 @@ impl ChoiceRule for Escape {
 
 impl Escape {
     fn towards_unvisited(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
-        if let Some(t) = self.target.filter(|&t| !view.visited(t)) {
+        if let Some(t) = self.target.filter(|&t| !view.visited(t) && !self.taken(view, t)) {
             let steps = self.paths.first_steps(view, t, view.blocked);
             if !steps.is_empty() {
                 return uniform(rng, &steps);
@@ -65,6 +68,7 @@ impl Escape {
         }
         self.target = None;
         self.nearest_mine(view)?;
+        self.keep_farthest(view);
         for _ in 0..MAX_TRIES.min(self.nearest.len()) {
             let k = if self.nearest.len() == 1 { 0 } else { rng.random_range(0..self.nearest.len()) };
             let t = self.nearest.swap_remove(k);
@@ -77,13 +81,42 @@ impl Escape {
         None
     }
 
+    /// Among the nearest targets, only those farthest from the searching
+    /// neighbours' centre: rule (2)'s spreading, applied to targets.
+    fn keep_farthest(&mut self, view: &View<'_>) {
+        let Some(c) = centre(view) else {
+            return;
+        };
+        let d = |v: VertexId| (view.grid.position(v) - c).norm();
+        let best = self.nearest.iter().map(|&v| d(v)).fold(f64::NEG_INFINITY, f64::max);
+        self.nearest.retain(|&v| d(v) >= best - TIE);
+    }
+
+    /// Whether a searching neighbour is now more than one step nearer to
+    /// `t` than this robot: it is theirs, and this robot picks again.
+    fn taken(&mut self, view: &View<'_>, t: VertexId) -> bool {
+        self.collect_sources(view);
+        if self.sources.is_empty() {
+            return false;
+        }
+        self.others.distances_to(view.grid, view.map, t, view.blocked);
+        let Some(mine) = self.others.dist(view.position) else {
+            return false;
+        };
+        self.sources.iter().any(|&s| self.others.dist(s).is_some_and(|o| o + 1 < mine))
+    }
+
+    fn collect_sources(&mut self, view: &View<'_>) {
+        self.sources.clear();
+        self.sources.extend(view.neighbours.iter().filter(|n| n.searching).map(|n| n.choice.unwrap_or(n.at)));
+    }
+
     /// The nearest unvisited vertices no searching neighbour is nearer to
     /// (on this robot's map, from where it will be), so that neighbours
     /// head for different places; all the nearest when every one is
     /// nearer to someone else.
     fn nearest_mine(&mut self, view: &View<'_>) -> Option<u32> {
-        self.sources.clear();
-        self.sources.extend(view.neighbours.iter().filter(|n| n.searching).map(|n| n.choice.unwrap_or(n.at)));
+        self.collect_sources(view);
         if !self.sources.is_empty() {
             self.others.distances_from(view.grid, view.map, &self.sources, view.blocked);
             let others = &self.others;

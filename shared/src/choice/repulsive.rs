@@ -2,10 +2,11 @@
 //! robot has no searching neighbour, rule (2) (repulsion) otherwise.
 
 use super::{uniform, ChoiceRule, RuleRng, Slots, View};
+use crate::geometry::Point;
 use crate::grid::VertexId;
 
 /// Distances within this are equal when rule (2) looks for the farthest candidate.
-const TIE: f64 = 1e-9;
+pub(crate) const TIE: f64 = 1e-9;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Repulsive;
@@ -22,10 +23,11 @@ impl ChoiceRule for Repulsive {
 /// (uniform over `set`) without searching neighbours. Robots that stopped
 /// are obstacles, not repellers: being pushed from one would keep this
 /// robot from passing it.
-pub fn repel(view: &View<'_>, set: &[VertexId], rng: &mut RuleRng) -> Option<VertexId> {
-    if set.is_empty() {
-        return None;
-    }
+/// The mean of the searching neighbours' next positions (announced
+/// choices of earlier choosers, current positions of later ones); `None`
+/// without searching neighbours. Summing integer lattice coordinates keeps
+/// it independent of order.
+pub fn centre(view: &View<'_>) -> Option<Point> {
     let (mut si, mut sj, mut live) = (0i64, 0i64, 0i64);
     for nb in view.neighbours.iter().filter(|n| n.searching) {
         let c = view.grid.coord(nb.choice.unwrap_or(nb.at));
@@ -33,11 +35,16 @@ pub fn repel(view: &View<'_>, set: &[VertexId], rng: &mut RuleRng) -> Option<Ver
         sj += c.j as i64;
         live += 1;
     }
-    if live == 0 {
-        return uniform(rng, set);
+    (live > 0).then(|| view.grid.lattice.position_of(si as f64 / live as f64, sj as f64 / live as f64))
+}
+
+pub fn repel(view: &View<'_>, set: &[VertexId], rng: &mut RuleRng) -> Option<VertexId> {
+    if set.is_empty() {
+        return None;
     }
-    // Summing integer coordinates keeps the mean independent of order.
-    let ave = view.grid.lattice.position_of(si as f64 / live as f64, sj as f64 / live as f64);
+    let Some(ave) = centre(view) else {
+        return uniform(rng, set);
+    };
     let mut best = Slots::default();
     let mut best_d = f64::NEG_INFINITY;
     for &c in set {
