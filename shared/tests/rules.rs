@@ -291,7 +291,8 @@ fn nearest_ties_are_drawn_at_random_and_escape_keeps_its_target() {
         for seed in 0..40 {
             let mut r = robot(g, policy, seed, 0, v);
             r.sense(0, &Sensing { open, occupied: 0, targets: &[] });
-            r.receive_map(9, at(g, -8, 3), &m, false);
+            // From a robot that stopped: no searching neighbour to spread from.
+            r.receive_map(9, at(g, -8, 3), &m, true);
             let first = r.choose().unwrap();
             seen.insert(first);
             if policy == Policy::Escape {
