@@ -43,7 +43,7 @@ enum Command {
         /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru, lfp or escape.
+        /// repulsive, sequential, ru, lfp, escape or frontier.
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots [default: the scenario's].
@@ -125,7 +125,7 @@ enum Command {
         /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru or escape (grid policies only).
+        /// repulsive, sequential, ru, escape, frontier, or one --agent-bin lists (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots [default: the scenario's].
@@ -143,6 +143,11 @@ enum Command {
         distributed: Distributed,
         #[command(flatten)]
         faults: FaultFlags,
+        /// The robots' program instead of robot-agent: one made with
+        /// `robot_agent::main_with` and its own choice rules, whose names
+        /// `--algorithm` then accepts.
+        #[arg(long)]
+        agent_bin: Option<PathBuf>,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     ///
@@ -183,7 +188,7 @@ enum ExperimentKind {
         /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru or escape (grid policies only).
+        /// repulsive, sequential, ru, escape or frontier (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots (the paper's Fig. 7 goes up to 13).
@@ -218,7 +223,7 @@ enum ExperimentKind {
         /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru or escape (grid policies only).
+        /// repulsive, sequential, ru, escape or frontier (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Loss probabilities per transmission per link, each 0 to 1.
@@ -264,7 +269,7 @@ enum ExperimentKind {
         /// Scenario for every count [default: paper up to 13 robots, large above].
         #[arg(long)]
         scenario: Option<String>,
-        /// repulsive, sequential, ru or escape (grid policies only).
+        /// repulsive, sequential, ru, escape or frontier (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         #[command(flatten)]
@@ -412,7 +417,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Replay { dir } => {
             emit(&format!("{}\n", gridswarm_orchestrator::replay::write(&dir)?.display()));
         }
-        Command::Run { scenario, algorithm, robots, seed, distributed: d, out, json, faults } => {
+        Command::Run { scenario, algorithm, robots, seed, distributed: d, out, json, faults, agent_bin: _ } => {
             let base = RunBase {
                 scenario,
                 algorithm,
@@ -440,6 +445,11 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
 }
 
 fn main() -> ExitCode {
+    // Before parsing: the agent's algorithms are names `--algorithm` accepts.
+    if let Err(e) = gridswarm_orchestrator::cli::agents::from_args(&std::env::args_os().collect::<Vec<_>>()) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if !e.use_stderr() => {

@@ -16,6 +16,7 @@ pub mod world;
 pub mod engine;
 pub mod outcome;
 pub mod policy;
+pub mod choice;
 pub mod scenario;
 pub mod lfp;
 pub mod map;

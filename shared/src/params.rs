@@ -47,6 +47,11 @@ pub struct Params {
     /// it is declared failed.
     #[serde(default = "defaults::suspect_rounds")]
     pub suspect_rounds: u32,
+    /// Reading: a received choice marks its vertex visited in the
+    /// receiver's map at once (the paper: "the receivers will update their
+    /// maps"); false: only the next exchange's maps carry it.
+    #[serde(default = "defaults::choices_update_maps")]
+    pub choices_update_maps: bool,
 }
 
 /// Defaults of the protocol's timing, for files written before they existed.
@@ -62,6 +67,9 @@ mod defaults {
     }
     pub fn suspect_rounds() -> u32 {
         1
+    }
+    pub fn choices_update_maps() -> bool {
+        true
     }
 }
 
@@ -84,6 +92,7 @@ impl Params {
             t_wait: defaults::t_wait(),
             retries: 0,
             suspect_rounds: defaults::suspect_rounds(),
+            choices_update_maps: defaults::choices_update_maps(),
         }
     }
 

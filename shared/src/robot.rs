@@ -16,19 +16,17 @@
 //! arrival order: maps merge by union, choices wait for every higher-priority
 //! neighbour, and the repulsion centre is summed in exact lattice coordinates.
 
-use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::choice::paths::Paths;
+use crate::choice::{self, ChoiceRule, NeighbourView, View};
 use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::MAX_DEGREE;
-use crate::map::{Map, RobotId};
+use crate::map::{Map, RobotId, SENSED};
 use crate::params::Situation;
 use crate::policy::Policy;
 use crate::rng::robot_rng;
-
-/// Distances within this are equal when rule (2) looks for the farthest candidate.
-const TIE: f64 = 1e-9;
 
 /// What a robot needs to know about itself and the run.
 #[derive(Clone, Copy, Debug)]
@@ -40,6 +38,16 @@ pub struct RobotConfig {
     pub targets_total: usize,
     pub r_safe: f64,
     pub seed: u64,
+    /// Reading "choices update maps" (READING.md): a received choice marks
+    /// its vertex visited in the receiver's map at once.
+    pub choices_update_maps: bool,
+}
+
+impl RobotConfig {
+    /// A robot of `policy` with the default readings.
+    pub fn new(id: RobotId, policy: Policy, situation: Situation, targets_total: usize, r_safe: f64, seed: u64) -> Self {
+        RobotConfig { id, policy, situation, targets_total, r_safe, seed, choices_update_maps: true }
+    }
 }
 
 /// One round's readings from the robot's own sensors.
@@ -90,17 +98,6 @@ struct Neighbour {
     halted: bool,
 }
 
-/// Scratch space for the escape policy's breadth-first search, kept between
-/// rounds so the search never allocates.
-#[derive(Clone, Debug, Default)]
-struct Bfs {
-    stamp: Vec<u32>,
-    first: Vec<VertexId>,
-    queue: Vec<VertexId>,
-    generation: u32,
-}
-
-#[derive(Clone, Debug)]
 pub struct Robot<'g> {
     grid: &'g Grid,
     cfg: RobotConfig,
@@ -117,11 +114,34 @@ pub struct Robot<'g> {
     /// Vertices where the sonar keeps finding a robot nobody hears: bodies
     /// of robots this one never knew. Its own knowledge, not spread.
     bodies: Vec<VertexId>,
-    bfs: Bfs,
+    /// The policy's choice rule (step 5).
+    rule: Box<dyn ChoiceRule>,
+    /// For the stop rule's reachability test.
+    paths: Paths,
+    /// Vertices this round's choices heard marked visited, and nothing
+    /// else did ([`Robot::receive_choice`]).
+    /// With whether the claim made the vertex known too.
+    claims: Vec<(VertexId, bool)>,
+    /// Scratch for the rule's view, kept so choosing never allocates.
+    views: Vec<NeighbourView>,
+    blocked_now: Vec<VertexId>,
+}
+
+impl std::fmt::Debug for Robot<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Robot").field("cfg", &self.cfg).field("pos", &self.pos).field("round", &self.round).finish_non_exhaustive()
+    }
 }
 
 impl<'g> Robot<'g> {
+    /// A robot of a grid policy. Its rule must be runnable here: engines
+    /// check with [`choice::registry::runnable`] before building robots, so
+    /// an unknown policy is a usage error there, never a panic here.
     pub fn new(grid: &'g Grid, cfg: RobotConfig, start: VertexId) -> Self {
+        let rule = match choice::rule_for(cfg.policy) {
+            Ok(r) => r,
+            Err(e) => panic!("robot {}: {e}", cfg.id),
+        };
         Robot {
             grid,
             rng: robot_rng(cfg.seed, cfg.id),
@@ -135,7 +155,11 @@ impl<'g> Robot<'g> {
             next: None,
             accounted: Vec::with_capacity(8),
             bodies: Vec::new(),
-            bfs: Bfs::default(),
+            rule,
+            claims: Vec::new(),
+            paths: Paths::default(),
+            views: Vec::with_capacity(16),
+            blocked_now: Vec::new(),
         }
     }
 
@@ -183,6 +207,24 @@ impl<'g> Robot<'g> {
         self.occupied_now
     }
 
+    /// A claim lasts one round: by the next the chooser's own map, sensed
+    /// on the vertex, says it was visited. A claim nobody sensed (the
+    /// chooser crashed, was refused, or is out of range) is dropped, so the
+    /// vertex is unvisited again: kept, it would stop robots by rule (4)
+    /// on a map that ends at a vertex no one has seen around (in situation
+    /// 1 ending the search with targets unfound), and a crashed chooser's
+    /// claim would keep the others from ever going there.
+    fn drop_claims(&mut self) {
+        for (v, new) in self.claims.drain(..) {
+            if self.map.open[v as usize] & SENSED == 0 {
+                self.map.visited.clear(v as usize);
+                if new {
+                    self.map.known.clear(v as usize);
+                }
+            }
+        }
+    }
+
     /// Steps 1-2: start round `round` with this round's readings. Nobody is
     /// a neighbour until its map or choice is heard.
     pub fn sense(&mut self, round: u32, s: &Sensing) {
@@ -191,6 +233,7 @@ impl<'g> Robot<'g> {
         self.accounted.clear();
         self.open_now = s.open;
         self.occupied_now = s.occupied;
+        self.drop_claims();
         self.map.record_sensing(self.grid, self.pos, s.open);
         self.learn_targets(s.targets);
         self.nbrs.clear();
@@ -274,8 +317,11 @@ impl<'g> Robot<'g> {
         // unvisited vertices off; those can never be visited and must not
         // keep this robot going. Only with failures, so a failure-free run
         // decides exactly as before.
-        if (self.map.any_failed() || !self.bodies.is_empty()) && self.step_to_unvisited().is_none() {
-            return Some(Stop::CutOff);
+        if self.map.any_failed() || !self.bodies.is_empty() {
+            self.collect_blocked();
+            if self.paths.step_to_unvisited(self.grid, &self.map, self.pos, &self.blocked_now).is_none() {
+                return Some(Stop::CutOff);
+            }
         }
         None
     }
@@ -311,6 +357,13 @@ impl<'g> Robot<'g> {
         self.map.failed_now().map(|(_, at)| at).chain(self.bodies.iter().copied())
     }
 
+    fn collect_blocked(&mut self) {
+        let mut b = std::mem::take(&mut self.blocked_now);
+        b.clear();
+        b.extend(self.blocked());
+        self.blocked_now = b;
+    }
+
     /// Robot `id` was heard alive in `round`: a failure declared of it no
     /// longer counts, and it is a neighbour like any other.
     pub fn revive(&mut self, id: RobotId, round: u32) {
@@ -334,6 +387,14 @@ impl<'g> Robot<'g> {
         match self.neighbour(from, at) {
             Some(n) => {
                 n.choice = Some(next);
+                if self.cfg.choices_update_maps && self.cfg.policy.sequential() && !self.map.visited.get(next as usize) {
+                    // "the receivers will update their maps": the vertex
+                    // counts as visited for the rest of the round.
+                    let new = !self.map.known.get(next as usize);
+                    self.map.visited.set(next as usize);
+                    self.map.known.set(next as usize);
+                    self.claims.push((next, new));
+                }
                 true
             }
             None => false,
@@ -341,7 +402,7 @@ impl<'g> Robot<'g> {
     }
 
     fn sequential(&self) -> bool {
-        self.cfg.policy != Policy::Ru
+        self.cfg.policy.sequential()
     }
 
     fn key(&self) -> (i64, i64) {
@@ -391,7 +452,7 @@ impl<'g> Robot<'g> {
             if n == NONE || self.open_now >> d & 1 == 0 {
                 continue;
             }
-            if self.cfg.policy == Policy::Ru {
+            if !self.sequential() {
                 // Particles: RU ignores other robots altogether.
                 cands[nc] = n;
                 nc += 1;
@@ -425,8 +486,7 @@ impl<'g> Robot<'g> {
             cands[nc] = n;
             nc += 1;
         }
-        let cands = &cands[..nc];
-        let next = self.pick(cands).unwrap_or(self.pos);
+        let next = self.pick(&cands[..nc]).unwrap_or(self.pos);
         self.next = Some(next);
         self.accounted.clear();
         for i in 0..self.nbrs.len() {
@@ -437,118 +497,30 @@ impl<'g> Robot<'g> {
         Some(next)
     }
 
-    /// Rules (1) and (2), and the escape policy's breadth-first step.
+    /// Step 5 proper: the policy's rule picks among `cands`; anything but
+    /// a candidate is staying.
     fn pick(&mut self, cands: &[VertexId]) -> Option<VertexId> {
-        let mut unvisited = [NONE; MAX_DEGREE];
-        let mut visited = [NONE; MAX_DEGREE];
-        let (mut nu, mut nv) = (0, 0);
-        for &c in cands {
-            if self.map.visited.get(c as usize) {
-                visited[nv] = c;
-                nv += 1;
-            } else {
-                unvisited[nu] = c;
-                nu += 1;
-            }
-        }
-        if nu == 0 && self.cfg.policy == Policy::Escape {
-            if let Some(step) = self.step_to_unvisited() {
-                if cands.contains(&step) {
-                    return Some(step);
-                }
-            }
-        }
-        let set = if nu > 0 { &unvisited[..nu] } else { &visited[..nv] };
-        if set.is_empty() {
-            return None;
-        }
-        let repulsive = matches!(self.cfg.policy, Policy::Repulsive | Policy::Escape);
-        // Searching neighbours only: a robot that stopped is an obstacle, and
-        // being pushed away from it would keep this one from passing it.
-        let searching = |n: &&Neighbour| !n.suspected && !n.halted && n.map_in;
-        let live = self.nbrs.iter().filter(searching).count();
-        // Rule (1) without communication neighbours.
-        if !repulsive || live == 0 {
-            return Some(self.uniform(set));
-        }
-        // Rule (2): farthest from the mean of the earlier choosers' next
-        // positions and the later choosers' current positions.
-        let (mut si, mut sj) = (0i64, 0i64);
-        for nb in self.nbrs.iter().filter(searching) {
-            let v = self.moving(nb).unwrap_or(nb.at);
-            let c = self.grid.coord(v);
-            si += c.i as i64;
-            sj += c.j as i64;
-        }
-        // Summing integer coordinates keeps the mean independent of order.
-        let ave = self.grid.lattice.position_of(si as f64 / live as f64, sj as f64 / live as f64);
-        let mut best = [NONE; MAX_DEGREE];
-        let mut nb = 0;
-        let mut best_d = f64::NEG_INFINITY;
-        for &c in set {
-            let d = (self.grid.position(c) - ave).norm();
-            if d > best_d + TIE {
-                best_d = d;
-                nb = 0;
-            }
-            if d >= best_d - TIE {
-                best[nb] = c;
-                nb += 1;
-            }
-        }
-        Some(self.uniform(&best[..nb]))
-    }
-
-    fn uniform(&mut self, set: &[VertexId]) -> VertexId {
-        if set.len() == 1 {
-            set[0]
-        } else {
-            set[self.rng.random_range(0..set.len())]
-        }
-    }
-
-    /// The first step of a shortest path on the robot's own map to the
-    /// nearest known unvisited vertex, avoiding failed robots; `None` when no
-    /// unvisited vertex is reachable.
-    fn step_to_unvisited(&mut self) -> Option<VertexId> {
-        let grid = self.grid;
-        let n = grid.len();
-        let bfs = &mut self.bfs;
-        if bfs.stamp.len() != n {
-            bfs.stamp = vec![0; n];
-            bfs.first = vec![NONE; n];
-            bfs.queue = Vec::with_capacity(n);
-        }
-        bfs.generation = bfs.generation.wrapping_add(1);
-        if bfs.generation == 0 {
-            bfs.stamp.iter_mut().for_each(|s| *s = 0);
-            bfs.generation = 1;
-        }
-        let g = bfs.generation;
-        bfs.queue.clear();
-        bfs.stamp[self.pos as usize] = g;
-        bfs.queue.push(self.pos);
-        for at in self.map.failed_now().map(|(_, at)| at).chain(self.bodies.iter().copied()) {
-            bfs.stamp[at as usize] = g;
-        }
-        let mut head = 0;
-        while head < bfs.queue.len() {
-            let v = bfs.queue[head];
-            head += 1;
-            if v != self.pos && !self.map.visited.get(v as usize) {
-                return Some(bfs.first[v as usize]);
-            }
-            for (d, &w) in grid.neighbors(v)[..grid.degree()].iter().enumerate() {
-                if w == NONE || bfs.stamp[w as usize] == g || !self.map.known.get(w as usize) || !self.map.edge_open(grid, v, d)
-                {
-                    continue;
-                }
-                bfs.stamp[w as usize] = g;
-                bfs.first[w as usize] = if v == self.pos { w } else { bfs.first[v as usize] };
-                bfs.queue.push(w);
-            }
-        }
-        None
+        self.collect_blocked();
+        let mut views = std::mem::take(&mut self.views);
+        views.clear();
+        views.extend(self.nbrs.iter().map(|n| NeighbourView {
+            id: n.id,
+            at: n.at,
+            choice: self.moving(n),
+            searching: !n.suspected && !n.halted && n.map_in,
+        }));
+        let view = View {
+            grid: self.grid,
+            map: &self.map,
+            position: self.pos,
+            round: self.round,
+            candidates: cands,
+            neighbours: &views,
+            blocked: &self.blocked_now,
+        };
+        let c = self.rule.choose(&view, &mut self.rng).filter(|c| cands.contains(c));
+        self.views = views;
+        c
     }
 
     /// Step 6 done: the world moved this robot to `to`.
@@ -571,7 +543,7 @@ mod tests {
         let w = World::new(area, vec![], vec![], Params::default(), LatticeKind::Triangular);
         let g = &w.grid;
         let v = g.id_of(Coord::new(0, 0)).unwrap();
-        let cfg = RobotConfig { id: 0, policy: Policy::Repulsive, situation: Situation::Two, targets_total: 0, r_safe: 0.3, seed: 1 };
+        let cfg = RobotConfig::new(0, Policy::Repulsive, Situation::Two, 0, 0.3, 1);
         let mut r = Robot::new(g, cfg, v);
         // Only the edge in slot 0 is open: its far end is the one unvisited vertex.
         r.sense(0, &Sensing { open: 1, occupied: 0, targets: &[] });

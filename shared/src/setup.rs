@@ -64,6 +64,7 @@ impl RobotSetup {
             targets_total: self.targets_total,
             r_safe: self.params.r_safe,
             seed: self.seed,
+            choices_update_maps: self.params.choices_update_maps,
         };
         PeerConfig::new(rc, &self.params)
     }

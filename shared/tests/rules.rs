@@ -1,9 +1,12 @@
-//! Rules (1) and (2) and the waiting of step 5 on hand-made situations,
-//! driving one robot's decision core directly.
+//! Rules (1) and (2), the waiting of step 5, the other choice rules
+//! (escape, frontier, a registered one) and the choices-update-maps
+//! reading on hand-made situations, driving one robot's decision core
+//! directly.
 
 use std::collections::BTreeSet;
 
 use gridswarm::geometry::{Point, Polygon};
+use gridswarm::choice::{self, registry, ChoiceRule, RuleRng, View};
 use gridswarm::grid::{Grid, VertexId};
 use gridswarm::lattice::{Coord, LatticeKind};
 use gridswarm::map::Map;
@@ -24,7 +27,7 @@ fn at(grid: &Grid, i: i32, j: i32) -> VertexId {
 }
 
 fn robot(grid: &Grid, policy: Policy, seed: u64, id: u16, v: VertexId) -> Robot<'_> {
-    Robot::new(grid, RobotConfig { id, policy, situation: Situation::Two, targets_total: 0, r_safe: 0.3, seed }, v)
+    Robot::new(grid, RobotConfig::new(id, policy, Situation::Two, 0, 0.3, seed), v)
 }
 
 /// The neighbour of `v` in slot `d`.
@@ -228,4 +231,169 @@ fn a_halted_neighbour_is_not_waited_for_and_never_vacates() {
         assert!(r.ready());
         assert_ne!(r.choose(), Some(j_at));
     }
+}
+
+/// A map in which robots stood on `stood` and sensed only the edges
+/// between listed vertices (`edges`, both ways).
+fn corridor_map(grid: &Grid, stood: &[VertexId], edges: &[(VertexId, VertexId)]) -> Map {
+    let mut m = Map::new(grid.len(), 0);
+    for &v in stood {
+        let mut open = 0u8;
+        for &(a, b) in edges {
+            let other = if a == v { b } else if b == v { a } else { continue };
+            open |= 1 << grid.slot_of(v, other).unwrap();
+        }
+        m.record_sensing(grid, v, open);
+    }
+    m
+}
+
+/// The open mask of `v` for the edges to `to`.
+fn open_to(grid: &Grid, v: VertexId, to: &[VertexId]) -> u8 {
+    to.iter().fold(0, |m, &t| m | 1 << grid.slot_of(v, t).unwrap())
+}
+
+/// A straight corridor along j = 0 from `lo` to `hi`, visited from
+/// `lo + 1` to `hi - 1`: its two ends are the only unvisited vertices.
+fn straight(g: &Grid, lo: i32, hi: i32) -> Map {
+    let stood: Vec<_> = (lo + 1..hi).map(|i| at(g, i, 0)).collect();
+    let edges: Vec<_> = (lo..hi).map(|i| (at(g, i, 0), at(g, i + 1, 0))).collect();
+    corridor_map(g, &stood, &edges)
+}
+
+#[test]
+fn escape_and_frontier_head_for_the_nearest_unvisited_vertex() {
+    let w = world();
+    let g = &w.grid;
+    let v = at(g, 0, 0);
+    // Ends at (3, 0) and (-5, 0): the right one is nearer.
+    let m = straight(g, -5, 3);
+    for policy in [Policy::Escape, Policy::Frontier] {
+        for seed in 0..30 {
+            let mut r = robot(g, policy, seed, 0, v);
+            r.sense(0, &Sensing { open: open_to(g, v, &[at(g, 1, 0), at(g, -1, 0)]), occupied: 0, targets: &[] });
+            r.receive_map(9, at(g, -8, 3), &m, false);
+            assert_eq!(r.choose(), Some(at(g, 1, 0)), "{policy} seed {seed}");
+        }
+    }
+}
+
+#[test]
+fn nearest_ties_are_drawn_at_random_and_escape_keeps_its_target() {
+    let w = world();
+    let g = &w.grid;
+    let v = at(g, 0, 0);
+    // Ends at (3, 0) and (-3, 0), equally near.
+    let m = straight(g, -3, 3);
+    let open = open_to(g, v, &[at(g, 1, 0), at(g, -1, 0)]);
+    for policy in [Policy::Escape, Policy::Frontier] {
+        let mut seen = BTreeSet::new();
+        for seed in 0..40 {
+            let mut r = robot(g, policy, seed, 0, v);
+            r.sense(0, &Sensing { open, occupied: 0, targets: &[] });
+            // From a robot that stopped: no searching neighbour to spread from.
+            r.receive_map(9, at(g, -8, 3), &m, true);
+            let first = r.choose().unwrap();
+            seen.insert(first);
+            if policy == Policy::Escape {
+                // It did not get to move: the next rounds it heads the same way.
+                for round in 1..4 {
+                    r.sense(round, &Sensing { open, occupied: 0, targets: &[] });
+                    assert_eq!(r.choose(), Some(first), "seed {seed} round {round}: the target is kept");
+                }
+            }
+        }
+        assert_eq!(seen, [at(g, 1, 0), at(g, -1, 0)].into_iter().collect(), "{policy}: no side is favoured");
+    }
+}
+
+#[test]
+fn escape_takes_another_shortest_path_when_the_first_step_is_blocked() {
+    let w = world();
+    let g = &w.grid;
+    let (v, right, up, left, goal) = (at(g, 0, 0), at(g, 1, 0), at(g, 0, 1), at(g, -1, 0), at(g, 1, 1));
+    // (1, 1) is the one unvisited vertex, two steps away through (1, 0) or (0, 1).
+    let m = corridor_map(g, &[v, right, up, left], &[(v, right), (v, up), (v, left), (right, goal), (up, goal)]);
+    for seed in 0..40 {
+        let mut r = robot(g, Policy::Escape, seed, 0, v);
+        r.sense(0, &Sensing { open: open_to(g, v, &[right, up, left]), occupied: open_to(g, v, &[right]), targets: &[] });
+        r.receive_map(1, right, &m, false);
+        // The higher-priority robot on (1, 0) stays there.
+        r.receive_choice(1, right, right);
+        // Rule (2) would go left, away from it; the other shortest path goes up.
+        assert_eq!(r.choose(), Some(up), "seed {seed}");
+    }
+}
+
+#[test]
+fn a_heard_choice_marks_its_vertex_visited_for_the_round() {
+    let w = world();
+    let g = &w.grid;
+    let v = at(g, 0, 0);
+    let (j_at, j_to) = (at(g, 2, 0), at(g, 3, 0));
+    for on in [true, false] {
+        let mut cfg = RobotConfig::new(0, Policy::Sequential, Situation::Two, 0, 0.3, 1);
+        cfg.choices_update_maps = on;
+        let mut r = Robot::new(g, cfg, v);
+        r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+        r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
+        r.receive_choice(1, j_at, j_to);
+        assert_eq!(r.map().visited.get(j_to as usize), on, "marked only with the reading on");
+        r.choose().unwrap();
+        // Next round: nobody sensed there (the chooser's map has not come),
+        // so the claim is dropped and the vertex is unvisited again.
+        r.sense(1, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+        assert!(!r.map().visited.get(j_to as usize));
+        assert!(!r.map().known.get(j_to as usize), "it was not known before the claim");
+    }
+    // A claim the chooser's own map confirms within the round stays.
+    let mut r = robot(g, Policy::Sequential, 1, 0, v);
+    r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+    r.receive_choice(1, j_at, j_to);
+    r.receive_map(1, j_at, &visited_map(g, &[j_to]), false);
+    r.sense(1, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+    assert!(r.map().visited.get(j_to as usize));
+    // RU exchanges no choices: nothing to mark.
+    let mut r = robot(g, Policy::Ru, 1, 0, v);
+    r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+    r.receive_choice(1, j_at, j_to);
+    assert!(!r.map().visited.get(j_to as usize));
+}
+
+/// A registered rule: always the last candidate.
+struct Last;
+
+impl ChoiceRule for Last {
+    fn choose(&mut self, view: &View<'_>, _rng: &mut RuleRng) -> Option<VertexId> {
+        view.candidates.last().copied()
+    }
+}
+
+#[test]
+fn a_registered_rule_is_a_policy_by_name() {
+    let p = choice::register("last-candidate", || Box::new(Last)).unwrap();
+    assert_eq!(p.name(), "last-candidate");
+    assert_eq!("last-candidate".parse::<Policy>(), Ok(p));
+    assert!(p.on_grid() && p.sequential() && p.collision_free());
+    let json = serde_json::to_string(&p).unwrap();
+    assert_eq!(json, "\"last-candidate\"");
+    assert_eq!(serde_json::from_str::<Policy>(&json).unwrap(), p);
+    let w = world();
+    let g = &w.grid;
+    let v = at(g, 0, 0);
+    let mut r = robot(g, p, 1, 0, v);
+    r.sense(0, &Sensing { open: 0b00_0110, occupied: 0, targets: &[] });
+    assert_eq!(r.choose(), Some(slot(g, v, 2)), "the rule decides");
+
+    for bad in ["escape", "Upper", "1st", "", "a b"] {
+        assert!(choice::register(bad, || Box::new(Last)).is_err(), "`{bad}` accepted");
+    }
+    let err = "no-such-rule".parse::<Policy>().unwrap_err();
+    assert!(err.contains("unknown algorithm `no-such-rule`") && err.contains("frontier") && err.contains("last-candidate"), "{err}");
+    // Read from a file, a name passes; only building its robots needs the rule.
+    let far: Policy = serde_json::from_str("\"elsewhere\"").unwrap();
+    assert_eq!(far.name(), "elsewhere");
+    assert!(registry::runnable(far).unwrap_err().contains("not registered"));
+    assert!(registry::runnable(Policy::Lfp).is_err());
+    assert!(serde_json::from_str::<Policy>("\"Bad Name\"").is_err());
 }

@@ -82,7 +82,7 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
     ];
     let mut compared = 0;
     for &(scenario, robots, seed, situations) in cases {
-        for policy in ["repulsive", "sequential", "ru", "escape"] {
+        for policy in ["repulsive", "sequential", "ru", "escape", "frontier"] {
             for sit in situations.chars().map(|c| c.to_string()) {
                 let args =
                     ["--scenario", scenario, "--algorithm", policy, "--robots", robots, "--seed", seed, "--situation", &sit];
@@ -95,7 +95,7 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
             }
         }
     }
-    assert_eq!(compared, 20);
+    assert_eq!(compared, 25);
 }
 
 /// Options of `gridswarm run` on the paper scenario, 13 robots.

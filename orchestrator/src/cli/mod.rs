@@ -2,6 +2,7 @@
 //! `simulate` and `run`, robot-count lists, and the commands that are one
 //! in-process call (`simulate`, `check`). `main.rs` parses and dispatches.
 
+pub mod agents;
 pub mod check;
 pub mod faults;
 pub mod robots;

@@ -43,6 +43,10 @@ pub fn simulate(opts: &SimulateOptions) -> Result<String> {
     if robots == 0 {
         return Err(Error::Input("at least 1 robot is needed".into()));
     }
+    if opts.algorithm.on_grid() {
+        // A name only an --agent-bin program can run.
+        gridswarm::choice::registry::runnable(opts.algorithm).map_err(Error::Usage)?;
+    }
     let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
     // Usage errors before anything is created.
     opts.faults.configure(&mut cfg, robots)?;

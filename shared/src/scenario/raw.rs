@@ -49,6 +49,7 @@ struct RawParams {
     t_wait: Option<f64>,
     retries: Option<u32>,
     suspect_rounds: Option<u32>,
+    choices_update_maps: Option<bool>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -231,6 +232,7 @@ impl RawParams {
             }
             p.suspect_rounds = k;
         }
+        p.choices_update_maps = self.choices_update_maps.unwrap_or(p.choices_update_maps);
         Ok(p)
     }
 }

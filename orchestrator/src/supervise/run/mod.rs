@@ -202,7 +202,10 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         warn(w);
     }
     let world_bin = launch::binary("world-server").map_err(Error::Run)?;
-    let agent_bin = launch::binary("robot-agent").map_err(Error::Run)?;
+    let agent_bin = match crate::cli::agents::agent_bin() {
+        Some(bin) => bin,
+        None => launch::binary("robot-agent").map_err(Error::Run)?,
+    };
 
     let prefix = ipc::new_prefix();
     let root = ipc::root_dir(&ipc::config(&prefix).map_err(Error::Run)?);

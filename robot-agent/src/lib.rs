@@ -1,0 +1,272 @@
+//! `robot-agent`: one robot of a distributed run, in its own process. It
+//! holds only its [`RobotSetup`] (grid frame, parameters, identity, policy,
+//! seed; never obstacles or targets), runs the robot's radio protocol
+//! ([`Peer`]) and nothing else: no algorithm is written here.
+//!
+//! It opens the services the world-server created, says hello, then loops:
+//! sleep on its wake event; read the world's [`Wake`] (all its chunks);
+//! decode every frame it carries ([`protocol::decode`]; a bad one becomes a
+//! `Malformed` note and is skipped); call [`Peer::wake`]; encode the frames
+//! to send; publish its answer and notify the world. On `End` it exits 0;
+//! if the world's process is gone (checked whenever the world is quiet for
+//! `--world-timeout-ms`) it exits 3. Errors: one line
+//! `robot-agent K: error: ...`, exit status 1.
+//!
+//! It is a library so that a researcher's program can be the agent of its
+//! own choice rules: [`main_with`] registers them, then runs as
+//! `robot-agent` does (`gridswarm run --agent-bin PATH` starts it). With
+//! `--list-rules` it prints the grid algorithms it runs, one a line.
+//!
+//! Testing hook: with `GRIDSWARM_AGENT_HANG=R@K` in its environment, robot
+//! R stops itself (SIGSTOP) on the readings of slot K, before answering:
+//! a live process that has gone silent, which no fault schedule makes.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::Parser;
+use gridswarm::grid::Grid;
+use gridswarm::ipc::{self, names};
+use gridswarm::choice::registry::{self, Factory};
+use gridswarm::peer::Peer;
+use gridswarm::policy::Policy;
+use gridswarm::protocol::{self, Frame, Limits};
+use gridswarm::setup::RobotSetup;
+use gridswarm::sim::{Note, Output};
+use gridswarm::wire::{self, AgentOutput, Assembler, Bytes, ToAgent, ToWorld, Wake, WireLimits, WireSend};
+use iceoryx2::prelude::*;
+
+#[derive(Parser, Debug)]
+#[command(name = "robot-agent", about = "One gridswarm robot of a run of one process per robot")]
+struct Args {
+    /// Print the grid algorithms this agent runs, one a line, and exit.
+    #[arg(long, exclusive = true)]
+    list_rules: bool,
+    /// The run's iceoryx2 prefix, made by the orchestrator.
+    #[arg(long, required_unless_present = "list_rules")]
+    prefix: Option<String>,
+    /// This robot's setup (JSON, `RobotSetup`).
+    #[arg(long, required_unless_present = "list_rules")]
+    setup: Option<PathBuf>,
+    /// The world-server's process id, checked when the world goes quiet.
+    #[arg(long, required_unless_present = "list_rules")]
+    world_pid: Option<u32>,
+    /// Quiet time after which the world's liveness is checked, ms.
+    #[arg(long, default_value_t = 500)]
+    world_timeout_ms: u64,
+}
+
+enum Exit {
+    Done,
+    WorldGone,
+}
+
+/// The agent's iceoryx2 ports.
+struct Ports {
+    inbox: ipc::BytesSubscriber,
+    outbox: ipc::BytesPublisher,
+    listener: ipc::Listener,
+    notifier: ipc::Notifier,
+}
+
+impl Ports {
+    fn open(node: &Node<ipc::Svc>, robot: usize) -> Result<Self, String> {
+        let inbox = ipc::open_bytes(node, &names::robot_in(robot), ipc::INBOX_CHUNKS)?;
+        let outbox = ipc::open_bytes(node, &names::robot_out(robot), ipc::OUTBOX_CHUNKS)?;
+        let wake = ipc::open_event(node, &names::robot_wake(robot))?;
+        let world_wake = ipc::open_event(node, &names::world_wake())?;
+        Ok(Ports {
+            inbox: ipc::bytes_subscriber(&inbox, ipc::INBOX_CHUNKS)?,
+            outbox: ipc::bytes_publisher(&outbox, ipc::CHUNK_BYTES)?,
+            listener: wake.listener_builder().create().map_err(|e| format!("cannot create listener: {e:?}"))?,
+            notifier: world_wake
+                .notifier_builder()
+                .default_event_id(EventId::new(robot))
+                .create()
+                .map_err(|e| format!("cannot create notifier: {e:?}"))?,
+        })
+    }
+
+    /// Publishes one message in chunks and wakes the world.
+    fn send(&self, seq: u64, bytes: &[u8]) -> Result<(), String> {
+        let n = wire::chunk_count(bytes.len(), ipc::CHUNK_BYTES);
+        if n > ipc::OUTBOX_CHUNKS {
+            return Err(format!("an answer of {} bytes does not fit the outbox ({n} chunks)", bytes.len()));
+        }
+        let mut res = Ok(());
+        wire::chunks(seq, bytes, ipc::CHUNK_BYTES, |c| {
+            if res.is_ok() {
+                res = ipc::publish(&self.outbox, c);
+            }
+        });
+        res?;
+        self.notifier.notify().map(|_| ()).map_err(|e| format!("cannot notify the world: {e:?}"))
+    }
+}
+
+/// One robot: its protocol state and what it checks the world's words against.
+struct Agent<'g> {
+    peer: Peer<'g>,
+    /// The slot on whose readings to stop itself (testing hook).
+    hang_at: Option<u32>,
+    limits: WireLimits,
+    frame_limits: Limits,
+    out: Output<Frame>,
+}
+
+impl Agent<'_> {
+    /// The answer to one message of the world (`None`: `End`).
+    fn answer(&mut self, seq: u64, bytes: &[u8]) -> Option<AgentOutput> {
+        match wire::decode_to_agent(bytes, &self.limits) {
+            Ok(ToAgent::End) => None,
+            Ok(ToAgent::Wake(w)) => Some(self.wake(w)),
+            // An answer still goes back, or the world would wait for it.
+            Err(_) => Some(AgentOutput { seq, notes: vec![Note::Malformed], ..Default::default() }),
+        }
+    }
+
+    fn wake(&mut self, w: Wake) -> AgentOutput {
+        if w.tick.as_ref().zip(self.hang_at).is_some_and(|(t, k)| t.round >= k) {
+            self.hang_at = None;
+            // SAFETY: raise(2) on this process.
+            unsafe {
+                libc::raise(libc::SIGSTOP);
+            }
+        }
+        let mut frames = Vec::with_capacity(w.frames.len());
+        let mut malformed = 0;
+        for f in &w.frames {
+            match protocol::decode(&f.bytes.0, &self.frame_limits) {
+                Ok(frame) => frames.push((f.from, frame)),
+                Err(_) => malformed += 1,
+            }
+        }
+        self.peer.wake(w.now, w.tick.as_ref(), frames.iter().map(|(from, f)| (*from, f)), &mut self.out);
+        let o = &mut self.out;
+        let mut notes = std::mem::take(&mut o.notes);
+        notes.extend(std::iter::repeat_n(Note::Malformed, malformed));
+        AgentOutput {
+            seq: w.seq,
+            send: o
+                .send
+                .drain(..)
+                .map(|t| WireSend { bytes: Bytes(protocol::encode(&t.payload)), ready: t.ready, copies: t.copies })
+                .collect(),
+            motor: o.motor,
+            alarm: o.alarm,
+            listen: o.listen,
+            notes,
+        }
+    }
+}
+
+/// `GRIDSWARM_AGENT_HANG=R@K`: the slot at which robot R stops itself.
+fn hang_at(robot: usize) -> Option<u32> {
+    let v = std::env::var("GRIDSWARM_AGENT_HANG").ok()?;
+    let (r, k) = v.split_once('@')?;
+    (r.trim().parse::<usize>().ok()? == robot).then_some(())?;
+    k.trim().parse().ok()
+}
+
+fn read_setup(path: &PathBuf) -> Result<RobotSetup, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
+    let setup: RobotSetup = serde_json::from_str(&text).map_err(|e| format!("`{}`: {e}", path.display()))?;
+    // A policy travels by name: this agent must have the rule.
+    registry::runnable(setup.policy)?;
+    Ok(setup)
+}
+
+/// The names of the grid algorithms this process can run.
+fn rule_names() -> Vec<&'static str> {
+    let built_in = Policy::ALL.into_iter().filter(|p| p.on_grid()).map(Policy::name);
+    built_in.chain(registry::custom_names().into_iter().filter(|n| n.parse().is_ok_and(|p| registry::runnable(p).is_ok()))).collect()
+}
+
+fn run(args: &Args, setup: &RobotSetup) -> Result<Exit, String> {
+    ipc::quiet_logs();
+    let (Some(prefix), Some(world_pid)) = (&args.prefix, args.world_pid) else {
+        return Err("--prefix and --world-pid are needed".into());
+    };
+    let config = ipc::config(prefix)?;
+    let grid: Grid = setup.grid();
+    let robot = setup.id as usize;
+    let node = ipc::create_node(&config, &names::robot_node(robot))?;
+    let ports = Ports::open(&node, robot)?;
+    let mut agent = Agent {
+        peer: Peer::new(&grid, setup.peer_config()),
+        hang_at: hang_at(robot),
+        limits: WireLimits::for_robot(grid.len(), setup.targets_total),
+        frame_limits: Limits::for_robot(grid.len(), setup.targets_total),
+        out: Output::default(),
+    };
+    ports.send(0, &wire::encode_to_world(&ToWorld::Hello { robot: setup.id as u32, pid: std::process::id() }))?;
+    let mut asm = Assembler::new(ipc::INBOX_CHUNKS * ipc::CHUNK_BYTES);
+    let mut buf = Vec::with_capacity(ipc::CHUNK_BYTES);
+    let timeout = Duration::from_millis(args.world_timeout_ms.max(1));
+    loop {
+        let _ = ports.listener.timed_wait(|_| {}, timeout);
+        let mut got = false;
+        while ipc::receive(&ports.inbox, &mut buf)? {
+            got = true;
+            let Ok(Some((seq, bytes))) = asm.push(&buf) else { continue };
+            match agent.answer(seq, bytes) {
+                Some(o) => ports.send(seq, &wire::encode_to_world(&ToWorld::Output(o)))?,
+                None => return Ok(Exit::Done),
+            }
+        }
+        if !got && !ipc::pid_alive(world_pid) {
+            return Ok(Exit::WorldGone);
+        }
+    }
+}
+
+/// The agent's whole program, with `rules` (name, factory) registered
+/// first: `robot-agent` is `main_with(&[])`.
+pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
+    for &(name, factory) in rules {
+        if let Err(e) = registry::register(name, factory) {
+            eprintln!("robot-agent: error: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    let args = match Args::try_parse() {
+        Ok(a) => a,
+        Err(e) if !e.use_stderr() => {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(2);
+        }
+    };
+    if args.list_rules {
+        for n in rule_names() {
+            println!("{n}");
+        }
+        return ExitCode::SUCCESS;
+    }
+    let Some(path) = &args.setup else {
+        eprintln!("robot-agent: error: --setup is needed");
+        return ExitCode::from(2);
+    };
+    let setup = match read_setup(path) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("robot-agent: error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    match run(&args, &setup) {
+        Ok(Exit::Done) => ExitCode::SUCCESS,
+        Ok(Exit::WorldGone) => {
+            eprintln!("robot-agent {}: the world-server is gone", setup.id);
+            ExitCode::from(ipc::EXIT_WORLD_GONE as u8)
+        }
+        Err(e) => {
+            eprintln!("robot-agent {}: error: {}", setup.id, e.replace('\n', "; "));
+            ExitCode::FAILURE
+        }
+    }
+}

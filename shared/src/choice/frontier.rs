@@ -1,0 +1,60 @@
+//! `frontier`: decentralized nearest-frontier exploration in the manner of
+//! Yamauchi (1998). Each robot heads along a shortest path on its own map to
+//! the nearest known unvisited vertex (the frontier) it can start towards
+//! this round; ties between frontiers and between shortest paths' first
+//! steps are broken at random. There is no repulsion: only the choice rule
+//! differs from the paper's robots, which share the grid, sensing, radio
+//! and the collision-avoidance order.
+
+use super::paths::Paths;
+use super::{uniform, ChoiceRule, RuleRng, View};
+use crate::grid::{VertexId, NONE};
+
+#[derive(Clone, Debug, Default)]
+pub struct Frontier {
+    paths: Paths,
+    nearest: Vec<VertexId>,
+    /// Blocked vertices plus the adjacent ones the core does not allow this
+    /// round, so the search only finds frontiers the robot can start towards.
+    closed: Vec<VertexId>,
+}
+
+impl ChoiceRule for Frontier {
+    fn choose(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
+        let (unvisited, visited) = view.split();
+        if !unvisited.is_empty() {
+            return uniform(rng, &unvisited);
+        }
+        if let Some(s) = self.towards_reachable(view, rng) {
+            return Some(s);
+        }
+        // Every frontier is out of reach this round (robots in the way, or
+        // none is left that this robot can reach): a random step keeps two
+        // robots from facing each other in a corridor for ever.
+        uniform(rng, &visited)
+    }
+}
+
+impl Frontier {
+    /// The first step of a shortest path to a nearest unvisited vertex
+    /// among those the robot can start towards this round (its first step
+    /// a candidate); `None` when there is none.
+    pub fn towards_reachable(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
+        self.close(view);
+        self.paths.nearest_unvisited(view.grid, view.map, view.position, &self.closed, &mut self.nearest)?;
+        let t = uniform(rng, &self.nearest)?;
+        let steps = self.paths.first_steps(view, t, &self.closed);
+        uniform(rng, &steps)
+    }
+
+    fn close(&mut self, view: &View<'_>) {
+        self.closed.clear();
+        self.closed.extend_from_slice(view.blocked);
+        let g = view.grid;
+        for &n in &g.neighbors(view.position)[..g.degree()] {
+            if n != NONE && !view.candidates.contains(&n) {
+                self.closed.push(n);
+            }
+        }
+    }
+}

@@ -1,0 +1,156 @@
+//! Breadth-first search on a robot's own map: through known vertices and
+//! edges known traversable, never through blocked vertices (failed robots,
+//! bodies). Scratch space is kept between rounds, so a search never
+//! allocates once the first has sized it.
+
+use crate::grid::{Grid, VertexId, NONE};
+use crate::map::Map;
+
+#[derive(Clone, Debug, Default)]
+pub struct Paths {
+    /// `stamp[v] == generation` when `v` was reached by the current search.
+    stamp: Vec<u32>,
+    dist: Vec<u32>,
+    /// The first step from the source of the path that reached `v`.
+    first: Vec<VertexId>,
+    queue: Vec<VertexId>,
+    generation: u32,
+}
+
+impl Paths {
+    /// Starts a search from `sources` (distance 0) with `blocked` closed.
+    fn start(&mut self, n: usize, sources: &[VertexId], blocked: &[VertexId]) -> u32 {
+        if self.stamp.len() != n {
+            *self = Paths { stamp: vec![0; n], dist: vec![0; n], first: vec![NONE; n], queue: Vec::with_capacity(n), generation: 0 };
+        }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.stamp.iter_mut().for_each(|s| *s = 0);
+            self.generation = 1;
+        }
+        let g = self.generation;
+        self.queue.clear();
+        for &b in blocked {
+            self.stamp[b as usize] = g;
+            self.dist[b as usize] = u32::MAX;
+        }
+        for &s in sources {
+            self.stamp[s as usize] = g;
+            self.dist[s as usize] = 0;
+            self.first[s as usize] = NONE;
+            self.queue.push(s);
+        }
+        g
+    }
+
+    /// Expands the search level by level until `done(v)` holds for a
+    /// popped vertex; returns it, or `None` when the search is exhausted.
+    fn run(&mut self, grid: &Grid, map: &Map, g: u32, mut done: impl FnMut(&Self, VertexId) -> bool) -> Option<VertexId> {
+        let mut head = 0;
+        while head < self.queue.len() {
+            let v = self.queue[head];
+            head += 1;
+            if done(self, v) {
+                return Some(v);
+            }
+            for (d, &w) in grid.neighbors(v)[..grid.degree()].iter().enumerate() {
+                if w == NONE || self.stamp[w as usize] == g || !map.known.get(w as usize) || !map.edge_open(grid, v, d) {
+                    continue;
+                }
+                self.stamp[w as usize] = g;
+                self.dist[w as usize] = self.dist[v as usize] + 1;
+                self.first[w as usize] = if self.first[v as usize] == NONE { w } else { self.first[v as usize] };
+                self.queue.push(w);
+            }
+        }
+        None
+    }
+
+    /// The first step of a shortest path from `from` to the nearest known
+    /// unvisited vertex (the first found in adjacency-slot order); `None`
+    /// when none is reachable.
+    pub fn step_to_unvisited(&mut self, grid: &Grid, map: &Map, from: VertexId, blocked: &[VertexId]) -> Option<VertexId> {
+        let g = self.start(grid.len(), &[from], blocked);
+        let v = self.run(grid, map, g, |_, v| v != from && !map.visited.get(v as usize))?;
+        Some(self.first[v as usize])
+    }
+
+    /// Every known unvisited vertex at the least distance from `from`, in
+    /// search order, into `out`; returns that distance (`None`: none is
+    /// reachable).
+    pub fn nearest_unvisited(
+        &mut self,
+        grid: &Grid,
+        map: &Map,
+        from: VertexId,
+        blocked: &[VertexId],
+        out: &mut Vec<VertexId>,
+    ) -> Option<u32> {
+        self.nearest_where(grid, map, from, blocked, out, |_, _| true)
+    }
+
+    /// [`Paths::nearest_unvisited`] among the unvisited vertices `v` at
+    /// distance `d` for which `accept(v, d)` holds.
+    pub fn nearest_where(
+        &mut self,
+        grid: &Grid,
+        map: &Map,
+        from: VertexId,
+        blocked: &[VertexId],
+        out: &mut Vec<VertexId>,
+        accept: impl Fn(VertexId, u32) -> bool,
+    ) -> Option<u32> {
+        out.clear();
+        let g = self.start(grid.len(), &[from], blocked);
+        let mut level = None;
+        self.run(grid, map, g, |s, v| {
+            let d = s.dist[v as usize];
+            if level.is_some_and(|l| d > l) {
+                return true;
+            }
+            if v != from && !map.visited.get(v as usize) && accept(v, d) {
+                level = Some(d);
+                out.push(v);
+            }
+            false
+        });
+        level
+    }
+
+    /// Distances from the nearest of `sources` to every reachable vertex.
+    pub fn distances_from(&mut self, grid: &Grid, map: &Map, sources: &[VertexId], blocked: &[VertexId]) {
+        let g = self.start(grid.len(), sources, blocked);
+        self.run(grid, map, g, |_, _| false);
+    }
+
+    /// Distances from every reachable vertex to `to` (edges are
+    /// symmetric), read with [`Paths::dist`] until the next search.
+    pub fn distances_to(&mut self, grid: &Grid, map: &Map, to: VertexId, blocked: &[VertexId]) {
+        let g = self.start(grid.len(), &[to], blocked);
+        self.run(grid, map, g, |_, _| false);
+    }
+
+    /// The distance the last search found for `v`; `None` if unreached or blocked.
+    pub fn dist(&self, v: VertexId) -> Option<u32> {
+        let k = v as usize;
+        (k < self.stamp.len() && self.stamp[k] == self.generation && self.dist[k] != u32::MAX).then(|| self.dist[k])
+    }
+}
+
+impl Paths {
+    /// The candidates of `view` that start a shortest path from the robot
+    /// to `to` (avoiding `blocked`), in slot order.
+    pub fn first_steps(&mut self, view: &super::View<'_>, to: VertexId, blocked: &[VertexId]) -> super::Slots {
+        let mut out = super::Slots::default();
+        self.distances_to(view.grid, view.map, to, blocked);
+        let Some(here) = self.dist(view.position) else {
+            return out;
+        };
+        for &c in view.candidates {
+            if self.dist(c).is_some_and(|d| d + 1 == here) {
+                out.push(c);
+            }
+        }
+        out
+    }
+}

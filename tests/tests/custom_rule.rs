@@ -1,0 +1,44 @@
+//! A choice rule defined in one file outside the workspace's crates
+//! (`robot-agent/examples/my_rule.rs`) runs in both engines by name, with
+//! the same trajectories: in-process through the example itself, and one
+//! process per robot through `gridswarm run --agent-bin`.
+
+use std::fs;
+use std::process::Command;
+
+use gridswarm_e2e::*;
+use serde_json::Value;
+
+#[test]
+fn a_rule_of_ones_own_runs_in_both_engines_alike() {
+    let _s = serial();
+    let example = bin_dir().join("examples").join("my_rule");
+    assert!(example.is_file(), "{} is missing: `cargo test --release --workspace` builds it", example.display());
+    let dir = scratch("custom-rule");
+    let (run_dir, sim_dir) = (dir.join("run"), dir.join("sim"));
+    let args = ["--scenario", "paper", "--robots", "5", "--seed", "3"];
+
+    let listed = Command::new(&example).arg("--list-rules").output().unwrap();
+    assert!(text(&listed.stdout).lines().any(|l| l == "sweep"), "the agent lists its rule: {}", text(&listed.stdout));
+
+    let sim = Command::new(&example).arg("simulate").args(args).arg("--out").arg(&sim_dir).output().unwrap();
+    assert!(sim.status.success(), "in-process run failed: {}", text(&sim.stderr));
+    let sim: Value = serde_json::from_slice(&sim.stdout).unwrap();
+    assert_eq!(sim["algorithm"], "sweep");
+
+    let ex = example.to_str().unwrap();
+    let run = run_json(&[&["--agent-bin", ex, "--algorithm", "sweep", "--out", run_dir.to_str().unwrap()][..], &args[..]].concat());
+    assert_eq!(run["algorithm"], "sweep");
+    assert_eq!(run["complete"], true);
+    for key in ["rounds", "search_time_s", "collisions", "targets_found"] {
+        assert_eq!(run[key], sim[key], "{key}");
+    }
+    for file in ["trajectories.jsonl", "rounds.csv"] {
+        assert!(fs::read(run_dir.join(file)).unwrap() == fs::read(sim_dir.join(file)).unwrap(), "{file} differs between the engines");
+    }
+
+    // Without the agent program, gridswarm does not know the name.
+    let plain = gridswarm().args(["simulate", "--algorithm", "sweep"]).output().unwrap();
+    assert_eq!(plain.status.code(), Some(2));
+    assert!(text(&plain.stderr).contains("unknown algorithm `sweep`"), "{}", text(&plain.stderr));
+}
