@@ -1,11 +1,21 @@
 //! The bodies' side of a slot, for the world ([`crate::sim`]): where every
 //! robot really is, what its sonar and laser report, executing all moves at
 //! once and counting collisions. It never decides for a robot.
+//!
+//! Under the default collision reading ([`RuCollisions::BackOff`]) a
+//! collision is physical: robots that meet drive back to where they came
+//! from, so the next slot's readings show them there. A robot whose
+//! destination is taken by one backing off would meet it too, and backs off
+//! as well (counted as one more collision). Robots that stand stacked on one
+//! vertex (they started so) separate to free adjacent vertices. Backing off
+//! and separating happen within the penalty's extra move time; their paths
+//! are not checked against other robots' (the penalty is the model).
 
 use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
 use crate::grid::{VertexId, NONE};
 use crate::lattice::Coord;
+use crate::params::RuCollisions;
 use crate::world::World;
 
 const EMPTY: u16 = u16::MAX;
@@ -34,6 +44,10 @@ pub struct Referee<'w> {
     found: Bitset,
     /// Where each robot ends this round; kept to avoid allocating per round.
     target: Vec<VertexId>,
+    /// Robots in a counted collision this round.
+    involved: Vec<bool>,
+    /// Robots ending on each vertex, while backing off (all zero between rounds).
+    ending: Vec<u16>,
 }
 
 impl<'w> Referee<'w> {
@@ -46,6 +60,8 @@ impl<'w> Referee<'w> {
             visited: Bitset::new(world.grid.len()),
             found: Bitset::new(world.targets.len()),
             target: Vec::with_capacity(starts.len()),
+            involved: vec![false; starts.len()],
+            ending: Vec::new(),
         };
         for (k, &v) in starts.iter().enumerate() {
             r.occupant[v as usize] = k as u16;
@@ -96,7 +112,8 @@ impl<'w> Referee<'w> {
 
     /// Step 6 for everyone at once: every robot goes to `next[k]` (its own
     /// position to stay). A move that is not along a traversable edge is
-    /// refused and the robot stays. Collisions are counted, not prevented.
+    /// refused and the robot stays. Collisions are counted, not prevented;
+    /// under [`RuCollisions::BackOff`] the robots in them back off.
     pub fn execute(&mut self, next: &[VertexId]) -> RoundReport {
         let grid = &self.world.grid;
         let mut report = RoundReport::default();
@@ -114,6 +131,8 @@ impl<'w> Referee<'w> {
             }
         }
         report.collisions = self.count_collisions(&target);
+        // Headings follow the planned moves: a robot that backs off turned
+        // to its destination and reverses along the same edge.
         for (k, &to) in target.iter().enumerate() {
             let from = self.pos[k];
             if to == from {
@@ -127,6 +146,9 @@ impl<'w> Referee<'w> {
             }
             self.heading[k] = Some(dir);
         }
+        if self.world.params.ru_collisions == RuCollisions::BackOff && report.collisions > 0 {
+            report.collisions += self.back_off(&mut target);
+        }
         for &v in &self.pos {
             self.occupant[v as usize] = EMPTY;
         }
@@ -139,14 +161,81 @@ impl<'w> Referee<'w> {
         report
     }
 
-    /// Pairs closer than `2 r_safe` at any moment of the simultaneous moves.
-    fn count_collisions(&self, target: &[VertexId]) -> u32 {
+    /// Sends every robot in a collision back to where it came from, then
+    /// every robot whose destination a returning robot holds, until no two
+    /// robots end on a vertex one of them moved to; robots left stacked
+    /// separate. Returns the collisions the cascade added.
+    fn back_off(&mut self, target: &mut [VertexId]) -> u32 {
+        let mut ending = std::mem::take(&mut self.ending);
+        ending.resize(self.world.grid.len(), 0);
+        for (k, t) in target.iter_mut().enumerate() {
+            if self.involved[k] {
+                *t = self.pos[k];
+            }
+        }
+        for &t in target.iter() {
+            ending[t as usize] += 1;
+        }
+        let mut added = 0;
+        loop {
+            let mut changed = false;
+            for k in 0..target.len() {
+                let (from, to) = (self.pos[k], target[k]);
+                if to != from && ending[to as usize] > 1 {
+                    ending[to as usize] -= 1;
+                    ending[from as usize] += 1;
+                    target[k] = from;
+                    added += 1;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        self.separate(target, &mut ending);
+        for &t in target.iter() {
+            ending[t as usize] = 0;
+        }
+        self.ending = ending;
+        added
+    }
+
+    /// Robots still sharing a vertex (they stood there together): the lowest
+    /// id stays, each other one in id order moves to the first free vertex
+    /// across a traversable edge, in adjacency order, or stays if none is.
+    fn separate(&mut self, target: &mut [VertexId], ending: &mut [u16]) {
+        let grid = &self.world.grid;
+        for k in 0..target.len() {
+            let v = target[k];
+            if ending[v as usize] <= 1 || !(0..k).any(|j| target[j] == v) {
+                continue;
+            }
+            let free = grid.neighbors(v)[..grid.degree()]
+                .iter()
+                .copied()
+                .find(|&n| n != NONE && ending[n as usize] == 0 && self.world.can_move(v, n));
+            if let Some(n) = free {
+                ending[v as usize] -= 1;
+                ending[n as usize] += 1;
+                target[k] = n;
+                let (a, b) = (grid.coord(v), grid.coord(n));
+                self.heading[k] = Some((b.i - a.i, b.j - a.j));
+            }
+        }
+    }
+
+    /// Pairs closer than `2 r_safe` at any moment of the simultaneous moves;
+    /// marks the robots in them in `involved`.
+    fn count_collisions(&mut self, target: &[VertexId]) -> u32 {
         let grid = &self.world.grid;
         let params = &self.world.params;
         let limit = 2.0 * params.r_safe;
         // Two robots further apart than this at the start cannot meet.
         let reach2 = (2.0 * params.a + limit).powi(2);
         let mut count = 0;
+        self.involved.clear();
+        self.involved.resize(target.len(), false);
         for i in 0..target.len() {
             let (p0, p1) = (grid.position(self.pos[i]), grid.position(target[i]));
             for j in i + 1..target.len() {
@@ -157,6 +246,8 @@ impl<'w> Referee<'w> {
                 let q1 = grid.position(target[j]);
                 if target[i] == target[j] || swept_min_distance(p0, p1, q0, q1) < limit {
                     count += 1;
+                    self.involved[i] = true;
+                    self.involved[j] = true;
                 }
             }
         }
@@ -165,5 +256,115 @@ impl<'w> Referee<'w> {
 
     pub fn coord(&self, robot: usize) -> Coord {
         self.world.grid.coord(self.pos[robot])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Point, Polygon};
+    use crate::lattice::LatticeKind;
+    use crate::params::Params;
+
+    fn world(mode: RuCollisions) -> World {
+        let area = Polygon::new(vec![Point::new(-5.0, -5.0), Point::new(5.0, -5.0), Point::new(5.0, 5.0), Point::new(-5.0, 5.0)]);
+        let params = Params { ru_collisions: mode, ..Params::default() };
+        World::new(area, vec![], vec![], params, LatticeKind::Triangular)
+    }
+
+    fn v(w: &World, i: i32, j: i32) -> VertexId {
+        w.grid.id_of(Coord::new(i, j)).unwrap()
+    }
+
+    #[test]
+    fn a_head_on_pair_backs_off_and_is_not_charged_again() {
+        let w = world(RuCollisions::BackOff);
+        let (a, b) = (v(&w, 0, 0), v(&w, 1, 0));
+        let mut r = Referee::new(&w, &[a, b]);
+        let rep = r.execute(&[b, a]);
+        assert_eq!(rep.collisions, 1);
+        assert_eq!(r.positions(), &[a, b]);
+        // Neither reached the other's vertex.
+        assert!(!r.visited().get(v(&w, 2, 0) as usize));
+        assert_eq!(r.execute(&[a, b]).collisions, 0);
+    }
+
+    #[test]
+    fn stacked_robots_separate_under_back_off_and_stay_charged_per_pair() {
+        let w = world(RuCollisions::BackOff);
+        let a = v(&w, 0, 0);
+        let mut r = Referee::new(&w, &[a, a, a]);
+        assert_eq!(r.execute(&[a, a, a]).collisions, 3);
+        let p = r.positions().to_vec();
+        assert_eq!(p[0], a, "the lowest id keeps the vertex");
+        assert!(p[1] != a && p[2] != a && p[1] != p[2], "{p:?}");
+        assert!(w.can_move(a, p[1]) && w.can_move(a, p[2]));
+        for _ in 0..3 {
+            assert_eq!(r.execute(&p).collisions, 0, "standing apart costs nothing");
+        }
+
+        let w = world(RuCollisions::PerPair);
+        let mut r = Referee::new(&w, &[a, a]);
+        for _ in 0..3 {
+            assert_eq!(r.execute(&[a, a]).collisions, 1);
+            assert_eq!(r.positions(), &[a, a]);
+        }
+    }
+
+    #[test]
+    fn a_robot_whose_destination_is_taken_by_one_backing_off_backs_off_too() {
+        let w = world(RuCollisions::BackOff);
+        let (x, u, t) = (v(&w, -1, 0), v(&w, 0, 0), v(&w, 1, 0));
+        // Robot 0 follows robot 1 along a line; robot 1 runs into robot 2.
+        let mut r = Referee::new(&w, &[x, u, t]);
+        let rep = r.execute(&[u, t, t]);
+        assert_eq!(rep.collisions, 2, "the meeting and the cascade");
+        assert_eq!(r.positions(), &[x, u, t]);
+        // The same moves under per-pair: one collision, robots 1 and 2 stacked.
+        let w = world(RuCollisions::PerPair);
+        let mut r = Referee::new(&w, &[x, u, t]);
+        assert_eq!(r.execute(&[u, t, t]).collisions, 1);
+        assert_eq!(r.positions(), &[u, t, t]);
+    }
+
+    #[test]
+    fn the_penalty_is_one_move_time_per_round_under_back_off() {
+        let p = Params::default();
+        assert_eq!(p.collision_penalty(0), 0.0);
+        assert_eq!(p.collision_penalty(1), p.move_time());
+        assert_eq!(p.collision_penalty(5), p.move_time());
+        let pp = Params { ru_collisions: RuCollisions::PerPair, ..p };
+        assert_eq!(pp.collision_penalty(5), 5.0 * p.move_time());
+    }
+
+    #[test]
+    fn ru_never_stands_stacked_under_back_off() {
+        use crate::outcome::RunConfig;
+        use crate::params::Situation;
+        use crate::policy::Policy;
+        let s = crate::scenario::Scenario::load("paper").unwrap();
+        let w = s.world();
+        let starts = s.start_vertices(&w, 13).unwrap();
+        let mut collided = 0;
+        for seed in 0..5 {
+            let cfg = RunConfig { measure_coverage: false, ..RunConfig::new(Policy::Ru, seed, Situation::One) };
+            let r = crate::engine::run(&w, &starts, &cfg);
+            collided += r.collisions;
+            for k in 0..=r.rounds as usize {
+                let mut at: Vec<_> = r.trajectories.iter().map(|t| t[k].vertex.unwrap()).collect();
+                at.sort_by_key(|c| (c.i, c.j));
+                at.dedup();
+                assert_eq!(at.len(), 13, "seed {seed}: robots stacked at the start of round {k}");
+            }
+            // Every round lasts at most one penalty more than its slot and move.
+            let p = w.params;
+            let slot = p.t_exchange + 4.0 * p.t_wait + p.t_choice + 20.0 * p.t_hop + p.move_time();
+            let mut last = 0.0;
+            for &t in &r.round_end_times_s {
+                assert!(t - last <= slot + p.move_time() + 1e-6, "seed {seed}: a round of {} s", t - last);
+                last = t;
+            }
+        }
+        assert!(collided > 0, "the test must see collisions to mean anything");
     }
 }

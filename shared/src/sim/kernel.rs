@@ -622,7 +622,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
         if report.translated {
             dur += micros(p.t_trans);
         }
-        dur += report.collisions as Time * micros(p.move_time());
+        dur += micros(p.collision_penalty(report.collisions));
         let end = self.slot_start + dur;
         if self.trace && report.collisions > 0 {
             let g = &self.world.grid;
