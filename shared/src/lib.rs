@@ -18,6 +18,7 @@ pub mod outcome;
 pub mod policy;
 pub mod scenario;
 pub mod lfp;
+pub mod oracle;
 pub mod map;
 pub mod rng;
 pub mod robot;

@@ -18,10 +18,14 @@ pub enum Policy {
     /// Repulsive, plus breadth-first search on the robot's own map to the
     /// nearest unvisited vertex when every adjacent vertex is visited.
     Escape,
+    /// A centralized planner that knows the map (not the targets): a
+    /// reference time, not a robot program; in-process only.
+    Oracle,
 }
 
 impl Policy {
-    pub const ALL: [Policy; 5] = [Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Lfp, Policy::Escape];
+    pub const ALL: [Policy; 6] =
+        [Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Lfp, Policy::Escape, Policy::Oracle];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -30,6 +34,7 @@ impl Policy {
             Policy::Ru => "ru",
             Policy::Lfp => "lfp",
             Policy::Escape => "escape",
+            Policy::Oracle => "oracle",
         }
     }
 
@@ -41,12 +46,14 @@ impl Policy {
             Policy::Ru => "RU",
             Policy::Lfp => "LFP",
             Policy::Escape => "escape",
+            Policy::Oracle => "oracle",
         }
     }
 
-    /// Whether robots move on the grid and run the decision core (all but LFP).
+    /// Whether robots move on the grid and run the decision core (all but
+    /// LFP and the oracle): what `run` can start as robot processes.
     pub fn on_grid(self) -> bool {
-        self != Policy::Lfp
+        !matches!(self, Policy::Lfp | Policy::Oracle)
     }
 
     /// Whether the policy promises no collisions.
@@ -67,6 +74,6 @@ impl std::str::FromStr for Policy {
         Policy::ALL
             .into_iter()
             .find(|p| p.name() == s)
-            .ok_or_else(|| format!("unknown algorithm `{s}` (expected one of repulsive, sequential, ru, lfp, escape)"))
+            .ok_or_else(|| format!("unknown algorithm `{s}` (expected one of repulsive, sequential, ru, lfp, escape, oracle)"))
     }
 }
