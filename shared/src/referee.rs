@@ -4,7 +4,10 @@
 //!
 //! Under the default collision reading ([`RuCollisions::BackOff`]) a
 //! collision is physical: robots that meet drive back to where they came
-//! from, so the next slot's readings show them there. A robot whose
+//! from, so the next slot's readings show them there; but of each group of
+//! robots that met, one, drawn from the run's seed, gets through (it got
+//! there first), or two RU robots with one unvisited vertex between them
+//! would meet and back off forever. A robot whose
 //! destination is taken by one backing off would meet it too, and backs off
 //! as well (counted as one more collision). Robots that stand stacked on one
 //! vertex (they started so) separate to free adjacent vertices. Backing off
@@ -48,6 +51,11 @@ pub struct Referee<'w> {
     involved: Vec<bool>,
     /// Robots ending on each vertex, while backing off (all zero between rounds).
     ending: Vec<u16>,
+    /// The pairs counted this round.
+    pairs: Vec<(u16, u16)>,
+    /// Draws who gets through a collision.
+    seed: u64,
+    round: u64,
 }
 
 impl<'w> Referee<'w> {
@@ -62,12 +70,21 @@ impl<'w> Referee<'w> {
             target: Vec::with_capacity(starts.len()),
             involved: vec![false; starts.len()],
             ending: Vec::new(),
+            pairs: Vec::new(),
+            seed: 0,
+            round: 0,
         };
         for (k, &v) in starts.iter().enumerate() {
             r.occupant[v as usize] = k as u16;
             r.visited.set(v as usize);
         }
         r
+    }
+
+    /// The referee of a run with this seed (who gets through a collision).
+    pub fn seeded(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
     }
 
     pub fn positions(&self) -> &[VertexId] {
@@ -149,6 +166,7 @@ impl<'w> Referee<'w> {
         if self.world.params.ru_collisions == RuCollisions::BackOff && report.collisions > 0 {
             report.collisions += self.back_off(&mut target);
         }
+        self.round += 1;
         for &v in &self.pos {
             self.occupant[v as usize] = EMPTY;
         }
@@ -161,15 +179,17 @@ impl<'w> Referee<'w> {
         report
     }
 
-    /// Sends every robot in a collision back to where it came from, then
-    /// every robot whose destination a returning robot holds, until no two
-    /// robots end on a vertex one of them moved to; robots left stacked
-    /// separate. Returns the collisions the cascade added.
+    /// Sends every robot in a collision but one mover per group back to
+    /// where it came from, then every robot whose destination a returning
+    /// robot holds, until no two robots end on a vertex one of them moved
+    /// to; robots left stacked separate. Returns the collisions the cascade
+    /// added.
     fn back_off(&mut self, target: &mut [VertexId]) -> u32 {
         let mut ending = std::mem::take(&mut self.ending);
         ending.resize(self.world.grid.len(), 0);
+        let through = self.through(target);
         for (k, t) in target.iter_mut().enumerate() {
-            if self.involved[k] {
+            if self.involved[k] && !through[k] {
                 *t = self.pos[k];
             }
         }
@@ -185,7 +205,8 @@ impl<'w> Referee<'w> {
                     ending[to as usize] -= 1;
                     ending[from as usize] += 1;
                     target[k] = from;
-                    added += 1;
+                    // A robot of a counted pair meeting it again is no new collision.
+                    added += u32::from(!self.involved[k]);
                     changed = true;
                 }
             }
@@ -199,6 +220,38 @@ impl<'w> Referee<'w> {
         }
         self.ending = ending;
         added
+    }
+
+    /// One moving robot of each group of robots that met (linked by counted
+    /// pairs), the one with the smallest draw from the seed and the round.
+    fn through(&self, target: &[VertexId]) -> Vec<bool> {
+        let n = target.len();
+        let mut group: Vec<usize> = (0..n).collect();
+        fn root(g: &mut [usize], mut k: usize) -> usize {
+            while g[k] != k {
+                g[k] = g[g[k]];
+                k = g[k];
+            }
+            k
+        }
+        for &(i, j) in &self.pairs {
+            let (a, b) = (root(&mut group, i as usize), root(&mut group, j as usize));
+            group[a.max(b)] = a.min(b);
+        }
+        let draw = |k: usize| crate::rng::derive(crate::rng::derive(self.seed, self.round), k as u64);
+        let mut best: Vec<Option<(u64, usize)>> = vec![None; n];
+        for k in (0..n).filter(|&k| self.involved[k] && target[k] != self.pos[k]) {
+            let g = root(&mut group, k);
+            let d = (draw(k), k);
+            if best[g].is_none_or(|b| d < b) {
+                best[g] = Some(d);
+            }
+        }
+        let mut through = vec![false; n];
+        for (_, k) in best.into_iter().flatten() {
+            through[k] = true;
+        }
+        through
     }
 
     /// Robots still sharing a vertex (they stood there together): the lowest
@@ -236,6 +289,7 @@ impl<'w> Referee<'w> {
         let mut count = 0;
         self.involved.clear();
         self.involved.resize(target.len(), false);
+        self.pairs.clear();
         for i in 0..target.len() {
             let (p0, p1) = (grid.position(self.pos[i]), grid.position(target[i]));
             for j in i + 1..target.len() {
@@ -248,6 +302,7 @@ impl<'w> Referee<'w> {
                     count += 1;
                     self.involved[i] = true;
                     self.involved[j] = true;
+                    self.pairs.push((i as u16, j as u16));
                 }
             }
         }
@@ -287,6 +342,22 @@ mod tests {
         // Neither reached the other's vertex.
         assert!(!r.visited().get(v(&w, 2, 0) as usize));
         assert_eq!(r.execute(&[a, b]).collisions, 0);
+    }
+
+    #[test]
+    fn of_robots_heading_into_one_vertex_one_gets_there() {
+        let w = world(RuCollisions::BackOff);
+        let (a, b, t) = (v(&w, 0, 0), v(&w, 2, 0), v(&w, 1, 0));
+        let mut winners = [0; 2];
+        for seed in 0..40 {
+            let mut r = Referee::new(&w, &[a, b]).seeded(seed);
+            assert_eq!(r.execute(&[t, t]).collisions, 1);
+            let p = r.positions();
+            let k = usize::from(p[1] == t);
+            assert_eq!(p, if k == 0 { [t, b] } else { [a, t] }, "seed {seed}");
+            winners[k] += 1;
+        }
+        assert!(winners[0] > 5 && winners[1] > 5, "the seed draws who gets through: {winners:?}");
     }
 
     #[test]

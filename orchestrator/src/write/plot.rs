@@ -15,6 +15,7 @@ fn colour(p: Policy) -> RGBColor {
         Policy::Sequential => RGBColor(0x2c, 0xa0, 0x2c),
         Policy::Repulsive => RGBColor(0x1f, 0x77, 0xb4),
         Policy::Escape => RGBColor(0x94, 0x67, 0xbd),
+        Policy::Oracle => RGBColor(0x7f, 0x7f, 0x7f),
     }
 }
 

@@ -153,10 +153,7 @@ impl<'a> Exec<'a> {
     /// How many robots the move of `k` to `to` would meet, given the moves
     /// decided so far (`end`) and the others standing where they are.
     fn clashes(&self, k: usize, to: u32, end: &[Option<u32>]) -> u32 {
-        let grid = &self.world.grid;
-        let limit = 2.0 * self.world.params.r_safe;
-        let pos = |c: u32| grid.position(self.d.verts[c as usize]);
-        let (p0, p1) = (pos(self.walkers[k].at), pos(to));
+        let from = self.walkers[k].at;
         let mut count = 0;
         for (j, w) in self.walkers.iter().enumerate() {
             if j == k {
@@ -164,8 +161,8 @@ impl<'a> Exec<'a> {
             }
             let there = end[j].unwrap_or(w.at);
             // Robots already stacked (after a forced move) part without meeting again.
-            let stacked = w.at == self.walkers[k].at;
-            if there == to || (!stacked && swept_min_distance(p0, p1, pos(w.at), pos(there)) < limit) {
+            let stacked = w.at == from;
+            if there == to || (!stacked && self.meets(from, to, w.at, there)) {
                 count += 1;
             }
         }

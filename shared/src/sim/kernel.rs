@@ -166,7 +166,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
         let mut k = Kernel {
             world,
             cfg,
-            referee: Referee::new(world, starts),
+            referee: Referee::new(world, starts).seeded(cfg.seed),
             medium: Medium::new(cfg.seed, cfg.radio, micros(p.t_hop), p.r_c, n),
             queue: Queue::new(),
             bots,
