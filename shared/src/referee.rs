@@ -199,12 +199,12 @@ impl<'w> Referee<'w> {
         let mut added = 0;
         loop {
             let mut changed = false;
-            for k in 0..target.len() {
-                let (from, to) = (self.pos[k], target[k]);
+            for (k, t) in target.iter_mut().enumerate() {
+                let (from, to) = (self.pos[k], *t);
                 if to != from && ending[to as usize] > 1 {
                     ending[to as usize] -= 1;
                     ending[from as usize] += 1;
-                    target[k] = from;
+                    *t = from;
                     // A robot of a counted pair meeting it again is no new collision.
                     added += u32::from(!self.involved[k]);
                     changed = true;

@@ -136,8 +136,8 @@ impl<'a> Exec<'a> {
                 }
             }
         }
-        for k in 0..n {
-            if let Some(to) = end[k] {
+        for (k, to) in end.into_iter().enumerate() {
+            if let Some(to) = to {
                 self.advance(k, to, &mut round);
             }
         }
