@@ -115,8 +115,15 @@ fn series_agree_with_the_engine() {
         if policy == Policy::Lfp {
             // Poses are written to 6 decimals; the raster may differ by a sample or so.
             assert!((last - coverage).abs() < 1e-3, "{last} vs {coverage}");
-            // The engine also tests the sub-steps, so it may count more.
-            assert!(s.collisions.len() as u32 <= result.collisions);
+            // The engine tests the bent path's sub-steps, the replay the
+            // round's straight net motion: either may see a pair the other
+            // misses (seed 6 with isotropic turning: replay 1, engine 0).
+            assert!(s.collisions.len().abs_diff(result.collisions as usize) <= 2, "{} vs {}", s.collisions.len(), result.collisions);
+        } else if policy == Policy::Ru {
+            assert_eq!(last, coverage, "{policy:?}");
+            // Robots that collide back off (params.ru_collisions): the poses
+            // show only the collisions of robots that got through.
+            assert!(s.collisions.len() as u32 <= result.collisions, "{} > {}: {:?}", s.collisions.len(), result.collisions, &s.collisions[..s.collisions.len().min(5)]);
         } else {
             assert_eq!(last, coverage, "{policy:?}");
             assert_eq!(s.collisions.len() as u32, result.collisions, "{policy:?}");

@@ -35,6 +35,7 @@ pub fn run_with_lfp(world: &World, starts: &[VertexId], cfg: &RunConfig, lfp: &L
             r.round_end_times_s = times;
             r
         }
+        Policy::Oracle => crate::oracle::run(world, starts, cfg),
         _ => run_grid(world, starts, cfg),
     }
 }

@@ -11,8 +11,10 @@
 //!
 //! - **Flights.** A robot starts at its start vertex's position. A flight has
 //!   a length `L = clamp(scale * a * s, a, max_step * a)` with `s` drawn by
-//!   Mantegna's method with exponent `beta`, and a heading: uniform for the
-//!   first flight, then the previous heading plus `N(0, turn_sigma)`. A new
+//!   Mantegna's method with exponent `beta`, and a heading: uniform in
+//!   `[0, 2 pi)` for every flight by default (isotropic, as a Levy flight
+//!   draws directions), or, with `turn = sigma`, uniform for the first and
+//!   then the previous heading plus `N(0, sigma)` ([`Turn`]). A new
 //!   heading that points into a sensed obstacle (against the obstacle
 //!   repulsion) is mirrored off it, so a robot stopped at a wall turns away.
 //! - **Rounds.** Time advances in lock-step rounds. In each round every robot
@@ -20,7 +22,7 @@
 //!   `micro_steps` equal micro-steps (its control loop). Each micro-step goes
 //!   in the direction `heading + F`, normalised, where `F` is the potential
 //!   field at the robot's position at the start of the micro-step: for every
-//!   other robot within `r_c` at distance `d`, `k_robot * (1/d - 1/r_c) / d^2`
+//!   other robot within `r` at distance `d`, `k_robot * (1/d - 1/r) / d^2`
 //!   away from it; for every boundary edge, obstacle edge or obstacle circle
 //!   within `r_so`, `k_obstacle * (1/d - 1/r_so) / d^2` away from its nearest
 //!   point (Khatib's potential, which vanishes at the edge of the range). The
@@ -29,8 +31,10 @@
 //!   A micro-step the field turns more than 90 degrees from the heading ends
 //!   the flight with the round (the robot is pushed back; it takes a new
 //!   flight instead of dithering in front of the obstacle). A robot knows
-//!   the other robots' positions within `r_c` (Wi-Fi) and the obstacles
-//!   within `r_so` (sonar); it never reads the map. The length of a flight
+//!   the other robots' positions within `r` and the obstacles within `r_so`
+//!   (sonar); it never reads the map. `r` is `r_so` by default: the robots
+//!   "cannot communicate", so they sense each other by sonar
+//!   ([`RepelRange`]; `repel_range = "radio"` gives `r_c`). The length of a flight
 //!   is measured along the path.
 //! - **Clearance.** A micro-step that would bring the robot within `r_safe`
 //!   of an obstacle or the boundary is cut short at the last clear point
@@ -44,15 +48,16 @@
 //!   at most `a`), plus `t_rot` if any robot rotates on the spot: it starts a
 //!   new flight, or its direction of motion changes by more than
 //!   `max_steer` between two micro-steps (smaller bends are steering while
-//!   driving). Each collision counted in the round adds one more
-//!   `params.move_time()`, as the paper does for RU.
+//!   driving). Collisions add `params.collision_penalty`, the reading the
+//!   world applies to RU ([`crate::params::RuCollisions`]): by default one
+//!   move time if the round had any.
 //! - **Collisions.** The referee counts a collision for every pair of robots
 //!   that come closer than `2 * r_safe` at any moment of the round. All
 //!   robots move through their micro-steps together and each micro-step is
 //!   straight, so the closest approach within one is
 //!   [`geometry::swept_min_distance`]. A pair counts at most once per round,
 //!   and again in every round it is too close. The field makes collisions
-//!   rare, not impossible (two robots just out of `r_c` close at up to `2a`
+//!   rare, not impossible (two robots just out of range close at up to `2a`
 //!   per round).
 //! - **Sensing and stop.** A target is found when it lies within `r_st` of a
 //!   robot's position at the start of the run or at the end of a sub-step;
@@ -78,7 +83,10 @@
 //! [`geometry::swept_min_distance`]: crate::geometry::swept_min_distance
 
 mod levy;
+mod readings;
 mod sensing;
+
+pub use readings::{RepelRange, Turn};
 
 use std::sync::OnceLock;
 
@@ -116,17 +124,20 @@ pub struct LfpParams {
     /// a paper-sized 20 x 16 m area, where a longer flight would only run
     /// into a wall (0.5 % of draws reach it).
     pub max_step: f64,
-    /// Standard deviation of the normally drawn turn between flights (rad).
-    /// Default 0.5 (29 degrees): the project's choice; the heading forgets
-    /// itself over about `2 / turn_sigma^2` = 8 flights. Search time is
-    /// sensitive to it (one robot on a 20 x 16 m map with four obstacles:
-    /// about 1900 s at 0.5, 2600 s at 1.0, 3700 s at pi/2, 4900 s at pi), so
-    /// reports should state it.
-    pub turn_sigma: f64,
-    /// Gain of the repulsion from other robots within `r_c`. Default 1.0:
-    /// the push equals the unit heading at about 0.85 m, i.e. before two
-    /// robots are `2 * r_safe` apart.
+    /// How each new flight's heading is drawn: `"uniform"` (default) or a
+    /// turn sigma in radians for a correlated walk (`turn_sigma = 0.5`, the
+    /// former default, is still read). Search time is sensitive to it (one
+    /// robot on a 20 x 16 m map with four obstacles: about 1900 s at 0.5,
+    /// 2600 s at 1.0, 3700 s at pi/2, 4900 s at pi), so reports should
+    /// state it.
+    #[serde(alias = "turn_sigma")]
+    pub turn: Turn,
+    /// Gain of the repulsion from other robots within the repulsion range.
+    /// Default 1.0: the push equals the unit heading at about 0.75 m within
+    /// `r_so` (0.85 m within `r_c`), before two robots are `2 * r_safe` apart.
     pub k_robot: f64,
+    /// Which robots repel: those within sonar range (default) or radio range.
+    pub repel_range: RepelRange,
     /// Gain of the repulsion from obstacles and the boundary within `r_so`.
     /// Default 1.0: the push equals the unit heading at about 0.75 m, well
     /// before `r_safe`, so robots mostly turn before a wall cuts their flight.
@@ -151,7 +162,8 @@ impl Default for LfpParams {
             beta: 1.5,
             scale: 1.0,
             max_step: 20.0,
-            turn_sigma: 0.5,
+            turn: Turn::Uniform,
+            repel_range: RepelRange::Sonar,
             k_robot: 1.0,
             k_obstacle: 1.0,
             max_steer: std::f64::consts::FRAC_PI_4,
@@ -262,14 +274,17 @@ struct Robot {
 
 /// Starts a flight for `r` at a point where the obstacles push with `f_obs`.
 fn new_flight(r: &mut Robot, f_obs: Vector, levy: &Mantegna, lfp: &LfpParams, a: f64) {
-    r.heading = if r.heading == Vector::zeros() {
-        let (s, c) = (r.rng.random::<f64>() * std::f64::consts::TAU).sin_cos();
-        Vector::new(c, s)
-    } else {
-        let turn: f64 = r.rng.sample::<f64, _>(StandardNormal) * lfp.turn_sigma;
-        let (s, c) = turn.sin_cos();
-        let h = r.heading;
-        Vector::new(c * h.x - s * h.y, s * h.x + c * h.y)
+    r.heading = match lfp.turn {
+        Turn::Sigma(sigma) if r.heading != Vector::zeros() => {
+            let turn: f64 = r.rng.sample::<f64, _>(StandardNormal) * sigma;
+            let (s, c) = turn.sin_cos();
+            let h = r.heading;
+            Vector::new(c * h.x - s * h.y, s * h.x + c * h.y)
+        }
+        _ => {
+            let (s, c) = (r.rng.random::<f64>() * std::f64::consts::TAU).sin_cos();
+            Vector::new(c, s)
+        }
     };
     let push = f_obs.norm();
     if push > 0.0 {
@@ -282,6 +297,32 @@ fn new_flight(r: &mut Robot, f_obs: Vector, levy: &Mantegna, lfp: &LfpParams, a:
     let s = levy.sample(&mut r.rng);
     r.rem = (lfp.scale * a * s).clamp(a, (lfp.max_step * a).max(a));
     r.facing = r.heading;
+}
+
+/// The push other robots give robot `i` (Khatib's potential within `range`).
+#[derive(Clone, Copy, Debug)]
+struct Repulsion {
+    range: f64,
+    k: f64,
+}
+
+impl Repulsion {
+    fn field(&self, i: usize, pos: &[Point]) -> Vector {
+        let mut field = Vector::zeros();
+        if self.k == 0.0 || self.range <= 0.0 {
+            return field;
+        }
+        let (r2, inv_r, p) = (self.range * self.range, 1.0 / self.range, pos[i]);
+        for (j, &q) in pos.iter().enumerate() {
+            let v = p - q;
+            let d2 = v.norm_squared();
+            if j != i && d2 < r2 && d2 > 1e-18 {
+                let d = d2.sqrt();
+                field += v * (self.k * (1.0 / d - inv_r) / (d2 * d));
+            }
+        }
+        field
+    }
 }
 
 /// [`run`] on a prepared world.
@@ -303,8 +344,7 @@ fn run_inner(
     let levy = Mantegna::new(lfp.beta);
     let cos_steer = lfp.max_steer.cos();
     let r_st2 = prm.r_st * prm.r_st;
-    let r_c2 = prm.r_c * prm.r_c;
-    let inv_rc = 1.0 / prm.r_c;
+    let repel = Repulsion { range: lfp.repel_range.range(prm), k: lfp.k_robot };
     let collide = 2.0 * prm.r_safe;
     let micro = lfp.micro_steps.max(1);
     // Two robots further apart than this cannot meet within one micro-step.
@@ -389,16 +429,7 @@ fn run_inner(
                     continue;
                 }
                 let (mut field, nearest) = lw.sensing.sense(p, prm.r_so, lfp.k_obstacle);
-                if lfp.k_robot != 0.0 && prm.r_c > 0.0 {
-                    for (j, &q) in pos.iter().enumerate() {
-                        let v = p - q;
-                        let d2 = v.norm_squared();
-                        if j != i && d2 < r_c2 && d2 > 1e-18 {
-                            let d = d2.sqrt();
-                            field += v * (lfp.k_robot * (1.0 / d - inv_rc) / (d2 * d));
-                        }
-                    }
-                }
+                field += repel.field(i, &pos);
                 let bent = r.heading + field;
                 let len = bent.norm();
                 let dir = if len > 1e-12 { bent / len } else { r.heading };
@@ -463,7 +494,7 @@ fn run_inner(
         time += prm.t_choice
             + prm.t_trans
             + if rotated { prm.t_rot } else { 0.0 }
-            + round_collisions as f64 * prm.move_time();
+            + prm.collision_penalty(round_collisions);
         if let Some(t) = round_end_times.as_deref_mut() {
             t.push(time);
         }
@@ -494,297 +525,4 @@ fn run_inner(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::geometry::{Circle, Polygon, Shape};
-    use crate::lattice::LatticeKind;
-    use crate::params::Params;
-
-    fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Polygon {
-        Polygon::new(vec![Point::new(x0, y0), Point::new(x1, y0), Point::new(x1, y1), Point::new(x0, y1)])
-    }
-
-    /// Nine targets evenly spread over a `w x h` area (Sec. 5).
-    fn nine_targets(w: f64, h: f64) -> Vec<Point> {
-        let mut t = Vec::new();
-        for y in 0..3 {
-            for x in 0..3 {
-                t.push(Point::new(w * (2 * x + 1) as f64 / 6.0, h * (2 * y + 1) as f64 / 6.0));
-            }
-        }
-        t
-    }
-
-    /// A paper-sized map: 20 x 16 m, two boxes and two discs, nine targets.
-    fn paper_like() -> World {
-        let obstacles = vec![
-            Shape::Polygon(rect(4.0, 4.0, 7.0, 6.0)),
-            Shape::Polygon(rect(12.0, 9.0, 15.0, 12.0)),
-            Shape::Circle(Circle { center: Point::new(6.0, 11.0), radius: 1.5 }),
-            Shape::Circle(Circle { center: Point::new(14.0, 4.0), radius: 1.2 }),
-        ];
-        World::new(
-            rect(0.0, 0.0, 20.0, 16.0),
-            obstacles,
-            nine_targets(20.0, 16.0),
-            Params::default(),
-            LatticeKind::Triangular,
-        )
-    }
-
-    fn open(w: f64, h: f64) -> World {
-        World::new(rect(0.0, 0.0, w, h), vec![], nine_targets(w, h), Params::default(), LatticeKind::Triangular)
-    }
-
-    /// `n` neighbouring accessible vertices along the bottom border.
-    fn border_starts(world: &World, n: usize) -> Vec<VertexId> {
-        let s: Vec<VertexId> = world.accessible_vertices().take(n).collect();
-        assert_eq!(s.len(), n);
-        s
-    }
-
-    fn cfg(seed: u64, situation: Situation) -> RunConfig {
-        RunConfig::new(Policy::Lfp, seed, situation)
-    }
-
-    fn quiet(seed: u64) -> RunConfig {
-        RunConfig { measure_coverage: false, record_trajectories: false, ..cfg(seed, Situation::One) }
-    }
-
-    #[test]
-    fn deterministic_for_a_seed() {
-        let w = paper_like();
-        let starts = border_starts(&w, 5);
-        let a = run(&w, &starts, &cfg(42, Situation::One), &LfpParams::default());
-        let b = run(&w, &starts, &cfg(42, Situation::One), &LfpParams::default());
-        assert_eq!(a.rounds, b.rounds);
-        assert_eq!(a.search_time_s, b.search_time_s);
-        assert_eq!(a.collisions, b.collisions);
-        assert_eq!(a.coverage, b.coverage);
-        assert_eq!(a.trajectories, b.trajectories);
-        // The prepared form is the same computation.
-        let lw = LfpWorld::new(&w);
-        let c = run_prepared(&lw, &starts, &cfg(42, Situation::One), &LfpParams::default());
-        assert_eq!(a.trajectories, c.trajectories);
-        assert_eq!(a.search_time_s, c.search_time_s);
-    }
-
-    #[test]
-    fn different_seeds_differ() {
-        let w = paper_like();
-        let starts = border_starts(&w, 3);
-        let runs: Vec<RunResult> =
-            (0..4).map(|s| run(&w, &starts, &cfg(s, Situation::One), &LfpParams::default())).collect();
-        for x in 0..runs.len() {
-            for y in x + 1..runs.len() {
-                assert_ne!(runs[x].trajectories, runs[y].trajectories, "seeds {x} and {y}");
-            }
-        }
-        // Robots of one run do not share a stream.
-        assert_ne!(runs[0].trajectories[0][1..3], runs[0].trajectories[1][1..3]);
-    }
-
-    #[test]
-    fn result_fields_are_filled() {
-        let w = paper_like();
-        let starts = border_starts(&w, 4);
-        let r = run(&w, &starts, &cfg(3, Situation::One), &LfpParams::default());
-        assert_eq!(r.algorithm, Policy::Lfp);
-        assert_eq!((r.robots, r.seed, r.situation), (4, 3, 1));
-        assert!(r.complete);
-        assert_eq!((r.targets_found, r.targets_total), (9, 9));
-        assert_eq!(r.robot_rounds, 4 * r.rounds as u64);
-        assert_eq!(r.trajectories.len(), 4);
-        for (k, t) in r.trajectories.iter().enumerate() {
-            assert_eq!(t.len(), r.rounds as usize + 1);
-            assert_eq!(t[0].position, w.grid.position(starts[k]));
-            assert!(t.iter().all(|p| p.vertex.is_none()));
-            // No sub-step is longer than a.
-            assert!(t.windows(2).all(|s| (s[1].position - s[0].position).norm() <= w.params.a + 1e-9));
-        }
-        let cov = r.coverage.unwrap();
-        assert!(cov > 0.0 && cov <= 1.0, "{cov}");
-        // Every round costs at least t_choice + t_trans, at most that plus
-        // t_rot and the collision penalties.
-        let p = w.params;
-        let lo = r.rounds as f64 * (p.t_choice + p.t_trans);
-        let hi = lo + r.rounds as f64 * p.t_rot + r.collisions as f64 * p.move_time();
-        assert!(
-            r.search_time_s >= lo - 1e-9 && r.search_time_s <= hi + 1e-9,
-            "{} not in [{lo}, {hi}]",
-            r.search_time_s
-        );
-        // The first round always rotates (every robot starts a flight).
-        assert!(r.search_time_s >= lo + p.t_rot - 1e-9);
-    }
-
-    #[test]
-    fn never_inside_an_obstacle_or_too_close_to_a_wall() {
-        let w = paper_like();
-        let r_safe = w.params.r_safe;
-        for (robots, seed) in [(1, 0), (5, 1), (13, 2), (13, 3), (8, 4)] {
-            let starts = border_starts(&w, robots);
-            let c = RunConfig { max_rounds: 3000, ..cfg(seed, Situation::Two) };
-            let r = run(&w, &starts, &c, &LfpParams::default());
-            for t in &r.trajectories {
-                for pose in t {
-                    let p = pose.position;
-                    assert!(w.area.contains(p), "{p:?} left the area");
-                    assert!(w.area.boundary_distance(p) >= r_safe - 1e-9, "{p:?} too close to the boundary");
-                    for o in &w.obstacles {
-                        assert!(!o.contains(p) && o.distance(p) >= r_safe - 1e-9, "{p:?} too close to {o:?}");
-                    }
-                }
-                // Nor on the way: every sub-step keeps the clearance.
-                for s in t.windows(2) {
-                    let (p, q) = (s[0].position, s[1].position);
-                    assert!(w.area.boundary_segment_distance(p, q) >= r_safe - 1e-9);
-                    assert!(w.obstacles.iter().all(|o| o.segment_distance(p, q) >= r_safe - 1e-9));
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn finds_all_targets_on_an_open_rectangle() {
-        let w = open(20.0, 16.0);
-        for robots in [1, 5] {
-            let starts = border_starts(&w, robots);
-            for seed in 0..8 {
-                let r = run(&w, &starts, &quiet(seed), &LfpParams::default());
-                assert!(r.complete, "{robots} robots, seed {seed}: {} rounds", r.rounds);
-                assert_eq!(r.targets_found, 9);
-                let bound = if robots == 1 { 3000 } else { 800 };
-                assert!(r.rounds <= bound, "{robots} robots, seed {seed}: {} rounds", r.rounds);
-            }
-        }
-    }
-
-    #[test]
-    fn more_robots_search_faster_on_average() {
-        let w = paper_like();
-        let mean = |robots: usize| {
-            let starts = border_starts(&w, robots);
-            (0..40).map(|s| run(&w, &starts, &quiet(s), &LfpParams::default()).search_time_s).sum::<f64>() / 40.0
-        };
-        let (one, five) = (mean(1), mean(5));
-        assert!(five < one, "1 robot {one} s, 5 robots {five} s");
-    }
-
-    #[test]
-    fn situation_two_covers_va() {
-        let w = open(8.0, 6.0);
-        let starts = border_starts(&w, 3);
-        let r = run(&w, &starts, &cfg(5, Situation::Two), &LfpParams::default());
-        assert!(r.complete && r.situation == 2);
-        let va = w.reachable_from(&starts);
-        let ends: Vec<Point> = r.trajectories.iter().flatten().map(|p| p.position).collect();
-        for v in w.accessible_vertices().filter(|&v| va[v as usize]) {
-            let pv = w.grid.position(v);
-            assert!(ends.iter().any(|&e| (e - pv).norm() <= 0.5 + 1e-9), "vertex at {pv:?} never passed");
-        }
-        // Nearly all of Ad is then detected; corners may keep a sliver.
-        assert!(r.coverage.unwrap() > 0.99, "{:?}", r.coverage);
-    }
-
-    #[test]
-    fn collisions_are_counted_when_forced() {
-        let w = World::new(
-            rect(0.0, 0.0, 4.0, 4.0),
-            vec![],
-            vec![Point::new(100.0, 100.0)],
-            Params::default(),
-            LatticeKind::Triangular,
-        );
-        let starts = border_starts(&w, 10);
-        let c = RunConfig { max_rounds: 200, ..quiet(9) };
-        let blind = LfpParams { k_robot: 0.0, ..LfpParams::default() };
-        let r = run(&w, &starts, &c, &blind);
-        assert!(!r.complete && r.rounds == 200 && r.targets_found == 0);
-        assert!(r.collisions > 0);
-        let p = w.params;
-        let lo = 200.0 * (p.t_choice + p.t_trans) + r.collisions as f64 * p.move_time();
-        assert!(r.search_time_s >= lo - 1e-9);
-        // The potential field makes them rarer.
-        let fielded = run(&w, &starts, &c, &LfpParams::default());
-        assert!(fielded.collisions < r.collisions, "{} vs {}", fielded.collisions, r.collisions);
-    }
-
-    #[test]
-    fn blind_robots_in_a_corridor_cannot_pass_unnoticed() {
-        // The free band is 2 r_safe wide: two robots that do not repel cannot
-        // pass each other without coming closer than 2 r_safe, and the
-        // referee must see it.
-        // A target nobody can reach keeps the run going.
-        let w = World::new(
-            rect(0.0, -0.6, 8.0, 0.6),
-            vec![],
-            vec![Point::new(50.0, 0.0)],
-            Params::default(),
-            LatticeKind::Square,
-        );
-        let row: Vec<VertexId> = w.accessible_vertices().collect();
-        let starts = [row[0], row[row.len() - 1]];
-        let blind = LfpParams { k_robot: 0.0, ..LfpParams::default() };
-        for seed in 0..4 {
-            let c = RunConfig { max_rounds: 1000, ..cfg(seed, Situation::One) };
-            let r = run(&w, &starts, &c, &blind);
-            let side = |k: usize| r.trajectories[0][k].position.x < r.trajectories[1][k].position.x;
-            let passed = (0..=r.rounds as usize).any(|k| side(k) != side(0));
-            assert!(passed, "seed {seed}: never passed in {} rounds", r.rounds);
-            assert!(r.collisions > 0, "seed {seed}: passed without a collision");
-        }
-    }
-
-    #[test]
-    fn the_field_keeps_collisions_rare() {
-        let w = paper_like();
-        let starts = border_starts(&w, 13);
-        let total: u32 = (0..30).map(|s| run(&w, &starts, &quiet(s), &LfpParams::default()).collisions).sum();
-        assert!(total <= 15, "{total} collisions in 30 runs of 13 robots");
-    }
-
-    #[test]
-    fn no_targets_means_done_at_once() {
-        let w = World::new(rect(0.0, 0.0, 6.0, 6.0), vec![], vec![], Params::default(), LatticeKind::Triangular);
-        let r = run(&w, &border_starts(&w, 2), &cfg(0, Situation::One), &LfpParams::default());
-        assert!(r.complete);
-        assert_eq!((r.rounds, r.search_time_s), (0, 0.0));
-        assert_eq!(r.trajectories[0].len(), 1);
-    }
-
-    #[test]
-    fn unreachable_target_ends_incomplete() {
-        let w = World::new(
-            rect(0.0, 0.0, 6.0, 6.0),
-            vec![Shape::Circle(Circle { center: Point::new(3.0, 3.0), radius: 1.0 })],
-            vec![Point::new(3.0, 3.0)],
-            Params::default(),
-            LatticeKind::Triangular,
-        );
-        let c = RunConfig { max_rounds: 300, ..cfg(1, Situation::One) };
-        let r = run(&w, &border_starts(&w, 2), &c, &LfpParams::default());
-        assert!(!r.complete && r.rounds == 300 && r.targets_found == 0);
-    }
-
-    #[test]
-    fn other_lattices_run() {
-        for kind in [LatticeKind::Square, LatticeKind::Hexagonal] {
-            let w = World::new(rect(0.0, 0.0, 8.0, 6.0), vec![], nine_targets(8.0, 6.0), Params::default(), kind);
-            let starts = border_starts(&w, 2);
-            for situation in [Situation::One, Situation::Two] {
-                let r = run(&w, &starts, &cfg(2, situation), &LfpParams::default());
-                assert!(r.complete, "{kind:?} {situation:?}");
-            }
-        }
-    }
-
-    #[test]
-    fn params_from_partial_tables() {
-        let p: LfpParams = serde_json::from_str(r#"{"beta": 1.2, "k_robot": 0.0}"#).unwrap();
-        assert_eq!(p, LfpParams { beta: 1.2, k_robot: 0.0, ..LfpParams::default() });
-        assert!(serde_json::from_str::<LfpParams>(r#"{"gamma": 1.0}"#).is_err());
-        let d: LfpParams = serde_json::from_str("{}").unwrap();
-        assert_eq!(d, LfpParams::default());
-    }
-}
+mod tests;

@@ -19,6 +19,7 @@ pub mod policy;
 pub mod choice;
 pub mod scenario;
 pub mod lfp;
+pub mod oracle;
 pub mod map;
 pub mod rng;
 pub mod robot;

@@ -52,6 +52,45 @@ pub struct Params {
     /// maps"); false: only the next exchange's maps carry it.
     #[serde(default = "defaults::choices_update_maps")]
     pub choices_update_maps: bool,
+    /// How the world referees RU's collisions (the paper only says each
+    /// costs a move time): see [`RuCollisions`].
+    #[serde(default)]
+    pub ru_collisions: RuCollisions,
+}
+
+/// The reading of "one extra move time per collision" (issue 8, 1a).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RuCollisions {
+    /// Default: robots that collide back off to where they came from (or
+    /// separate to a free adjacent vertex), and the round lasts one extra
+    /// move time if any collision happened: the robots involved pay it
+    /// together, in parallel, and a pair is never charged for standing still.
+    #[default]
+    BackOff,
+    /// The former reading: every colliding pair adds one move time to the
+    /// whole team's round, and robots that end on one vertex stay there,
+    /// charged again every round they start stacked.
+    PerPair,
+}
+
+impl RuCollisions {
+    pub const NAMES: [&'static str; 2] = ["back-off", "per-pair"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RuCollisions::BackOff => "back-off",
+            RuCollisions::PerPair => "per-pair",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "back-off" => Some(RuCollisions::BackOff),
+            "per-pair" => Some(RuCollisions::PerPair),
+            _ => None,
+        }
+    }
 }
 
 /// Defaults of the protocol's timing, for files written before they existed.
@@ -93,12 +132,23 @@ impl Params {
             retries: 0,
             suspect_rounds: defaults::suspect_rounds(),
             choices_update_maps: defaults::choices_update_maps(),
+            ru_collisions: RuCollisions::default(),
         }
     }
 
     /// One full move: a rotation and a translation (the RU penalty per collision).
     pub fn move_time(&self) -> f64 {
         self.t_rot + self.t_trans
+    }
+
+    /// What `collisions` counted pairs add to a round (s), per
+    /// [`Params::ru_collisions`]: once per round with any, or once per pair.
+    pub fn collision_penalty(&self, collisions: u32) -> f64 {
+        match self.ru_collisions {
+            RuCollisions::BackOff if collisions > 0 => self.move_time(),
+            RuCollisions::BackOff => 0.0,
+            RuCollisions::PerPair => collisions as f64 * self.move_time(),
+        }
     }
 }
 

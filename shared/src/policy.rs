@@ -25,6 +25,9 @@ pub enum Policy {
     /// Nearest-frontier exploration (Yamauchi 1998), decentralized: the
     /// paper's robots with a shortest-path choice rule and no repulsion.
     Frontier,
+    /// A centralized planner that knows the map (not the targets): a
+    /// reference time, not a robot program; in-process only.
+    Oracle,
     /// A choice rule a program registered by name; it runs like the
     /// sequential collision-free policies.
     Custom(RuleName),
@@ -32,7 +35,8 @@ pub enum Policy {
 
 impl Policy {
     /// The built-in algorithms.
-    pub const ALL: [Policy; 6] = [Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Lfp, Policy::Escape, Policy::Frontier];
+    pub const ALL: [Policy; 7] =
+        [Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Lfp, Policy::Escape, Policy::Frontier, Policy::Oracle];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -42,6 +46,7 @@ impl Policy {
             Policy::Lfp => "lfp",
             Policy::Escape => "escape",
             Policy::Frontier => "frontier",
+            Policy::Oracle => "oracle",
             Policy::Custom(n) => n.as_str(),
         }
     }
@@ -57,15 +62,16 @@ impl Policy {
         }
     }
 
-    /// Whether robots move on the grid and run the decision core (all but LFP).
+    /// Whether robots move on the grid and run the decision core (all but
+    /// LFP and the oracle): what `run` can start as robot processes.
     pub fn on_grid(self) -> bool {
-        self != Policy::Lfp
+        !matches!(self, Policy::Lfp | Policy::Oracle)
     }
 
     /// Whether robots choose one after another in priority order, avoiding
     /// earlier choices (all grid policies but RU, whose robots are particles).
     pub fn sequential(self) -> bool {
-        !matches!(self, Policy::Ru | Policy::Lfp)
+        !matches!(self, Policy::Ru | Policy::Lfp | Policy::Oracle)
     }
 
     /// Whether the policy promises no collisions.

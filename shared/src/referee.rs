@@ -1,11 +1,24 @@
 //! The bodies' side of a slot, for the world ([`crate::sim`]): where every
 //! robot really is, what its sonar and laser report, executing all moves at
 //! once and counting collisions. It never decides for a robot.
+//!
+//! Under the default collision reading ([`RuCollisions::BackOff`]) a
+//! collision is physical: robots that meet drive back to where they came
+//! from, so the next slot's readings show them there; but of each group of
+//! robots that met, one, drawn from the run's seed, gets through (it got
+//! there first), or two RU robots with one unvisited vertex between them
+//! would meet and back off forever. A robot whose
+//! destination is taken by one backing off would meet it too, and backs off
+//! as well (counted as one more collision). Robots that stand stacked on one
+//! vertex (they started so) separate to free adjacent vertices. Backing off
+//! and separating happen within the penalty's extra move time; their paths
+//! are not checked against other robots' (the penalty is the model).
 
 use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
 use crate::grid::{VertexId, NONE};
 use crate::lattice::Coord;
+use crate::params::RuCollisions;
 use crate::world::World;
 
 const EMPTY: u16 = u16::MAX;
@@ -34,6 +47,15 @@ pub struct Referee<'w> {
     found: Bitset,
     /// Where each robot ends this round; kept to avoid allocating per round.
     target: Vec<VertexId>,
+    /// Robots in a counted collision this round.
+    involved: Vec<bool>,
+    /// Robots ending on each vertex, while backing off (all zero between rounds).
+    ending: Vec<u16>,
+    /// The pairs counted this round.
+    pairs: Vec<(u16, u16)>,
+    /// Draws who gets through a collision.
+    seed: u64,
+    round: u64,
 }
 
 impl<'w> Referee<'w> {
@@ -46,12 +68,23 @@ impl<'w> Referee<'w> {
             visited: Bitset::new(world.grid.len()),
             found: Bitset::new(world.targets.len()),
             target: Vec::with_capacity(starts.len()),
+            involved: vec![false; starts.len()],
+            ending: Vec::new(),
+            pairs: Vec::new(),
+            seed: 0,
+            round: 0,
         };
         for (k, &v) in starts.iter().enumerate() {
             r.occupant[v as usize] = k as u16;
             r.visited.set(v as usize);
         }
         r
+    }
+
+    /// The referee of a run with this seed (who gets through a collision).
+    pub fn seeded(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
     }
 
     pub fn positions(&self) -> &[VertexId] {
@@ -96,7 +129,8 @@ impl<'w> Referee<'w> {
 
     /// Step 6 for everyone at once: every robot goes to `next[k]` (its own
     /// position to stay). A move that is not along a traversable edge is
-    /// refused and the robot stays. Collisions are counted, not prevented.
+    /// refused and the robot stays. Collisions are counted, not prevented;
+    /// under [`RuCollisions::BackOff`] the robots in them back off.
     pub fn execute(&mut self, next: &[VertexId]) -> RoundReport {
         let grid = &self.world.grid;
         let mut report = RoundReport::default();
@@ -114,6 +148,8 @@ impl<'w> Referee<'w> {
             }
         }
         report.collisions = self.count_collisions(&target);
+        // Headings follow the planned moves: a robot that backs off turned
+        // to its destination and reverses along the same edge.
         for (k, &to) in target.iter().enumerate() {
             let from = self.pos[k];
             if to == from {
@@ -127,6 +163,10 @@ impl<'w> Referee<'w> {
             }
             self.heading[k] = Some(dir);
         }
+        if self.world.params.ru_collisions == RuCollisions::BackOff && report.collisions > 0 {
+            report.collisions += self.back_off(&mut target);
+        }
+        self.round += 1;
         for &v in &self.pos {
             self.occupant[v as usize] = EMPTY;
         }
@@ -139,14 +179,117 @@ impl<'w> Referee<'w> {
         report
     }
 
-    /// Pairs closer than `2 r_safe` at any moment of the simultaneous moves.
-    fn count_collisions(&self, target: &[VertexId]) -> u32 {
+    /// Sends every robot in a collision but one mover per group back to
+    /// where it came from, then every robot whose destination a returning
+    /// robot holds, until no two robots end on a vertex one of them moved
+    /// to; robots left stacked separate. Returns the collisions the cascade
+    /// added.
+    fn back_off(&mut self, target: &mut [VertexId]) -> u32 {
+        let mut ending = std::mem::take(&mut self.ending);
+        ending.resize(self.world.grid.len(), 0);
+        let through = self.through(target);
+        for (k, t) in target.iter_mut().enumerate() {
+            if self.involved[k] && !through[k] {
+                *t = self.pos[k];
+            }
+        }
+        for &t in target.iter() {
+            ending[t as usize] += 1;
+        }
+        let mut added = 0;
+        loop {
+            let mut changed = false;
+            for (k, t) in target.iter_mut().enumerate() {
+                let (from, to) = (self.pos[k], *t);
+                if to != from && ending[to as usize] > 1 {
+                    ending[to as usize] -= 1;
+                    ending[from as usize] += 1;
+                    *t = from;
+                    // A robot of a counted pair meeting it again is no new collision.
+                    added += u32::from(!self.involved[k]);
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        self.separate(target, &mut ending);
+        for &t in target.iter() {
+            ending[t as usize] = 0;
+        }
+        self.ending = ending;
+        added
+    }
+
+    /// One moving robot of each group of robots that met (linked by counted
+    /// pairs), the one with the smallest draw from the seed and the round.
+    fn through(&self, target: &[VertexId]) -> Vec<bool> {
+        let n = target.len();
+        let mut group: Vec<usize> = (0..n).collect();
+        fn root(g: &mut [usize], mut k: usize) -> usize {
+            while g[k] != k {
+                g[k] = g[g[k]];
+                k = g[k];
+            }
+            k
+        }
+        for &(i, j) in &self.pairs {
+            let (a, b) = (root(&mut group, i as usize), root(&mut group, j as usize));
+            group[a.max(b)] = a.min(b);
+        }
+        let draw = |k: usize| crate::rng::derive(crate::rng::derive(self.seed, self.round), k as u64);
+        let mut best: Vec<Option<(u64, usize)>> = vec![None; n];
+        for k in (0..n).filter(|&k| self.involved[k] && target[k] != self.pos[k]) {
+            let g = root(&mut group, k);
+            let d = (draw(k), k);
+            if best[g].is_none_or(|b| d < b) {
+                best[g] = Some(d);
+            }
+        }
+        let mut through = vec![false; n];
+        for (_, k) in best.into_iter().flatten() {
+            through[k] = true;
+        }
+        through
+    }
+
+    /// Robots still sharing a vertex (they stood there together): the lowest
+    /// id stays, each other one in id order moves to the first free vertex
+    /// across a traversable edge, in adjacency order, or stays if none is.
+    fn separate(&mut self, target: &mut [VertexId], ending: &mut [u16]) {
+        let grid = &self.world.grid;
+        for k in 0..target.len() {
+            let v = target[k];
+            if ending[v as usize] <= 1 || !(0..k).any(|j| target[j] == v) {
+                continue;
+            }
+            let free = grid.neighbors(v)[..grid.degree()]
+                .iter()
+                .copied()
+                .find(|&n| n != NONE && ending[n as usize] == 0 && self.world.can_move(v, n));
+            if let Some(n) = free {
+                ending[v as usize] -= 1;
+                ending[n as usize] += 1;
+                target[k] = n;
+                let (a, b) = (grid.coord(v), grid.coord(n));
+                self.heading[k] = Some((b.i - a.i, b.j - a.j));
+            }
+        }
+    }
+
+    /// Pairs closer than `2 r_safe` at any moment of the simultaneous moves;
+    /// marks the robots in them in `involved`.
+    fn count_collisions(&mut self, target: &[VertexId]) -> u32 {
         let grid = &self.world.grid;
         let params = &self.world.params;
         let limit = 2.0 * params.r_safe;
         // Two robots further apart than this at the start cannot meet.
         let reach2 = (2.0 * params.a + limit).powi(2);
         let mut count = 0;
+        self.involved.clear();
+        self.involved.resize(target.len(), false);
+        self.pairs.clear();
         for i in 0..target.len() {
             let (p0, p1) = (grid.position(self.pos[i]), grid.position(target[i]));
             for j in i + 1..target.len() {
@@ -157,6 +300,9 @@ impl<'w> Referee<'w> {
                 let q1 = grid.position(target[j]);
                 if target[i] == target[j] || swept_min_distance(p0, p1, q0, q1) < limit {
                     count += 1;
+                    self.involved[i] = true;
+                    self.involved[j] = true;
+                    self.pairs.push((i as u16, j as u16));
                 }
             }
         }
@@ -165,5 +311,131 @@ impl<'w> Referee<'w> {
 
     pub fn coord(&self, robot: usize) -> Coord {
         self.world.grid.coord(self.pos[robot])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Point, Polygon};
+    use crate::lattice::LatticeKind;
+    use crate::params::Params;
+
+    fn world(mode: RuCollisions) -> World {
+        let area = Polygon::new(vec![Point::new(-5.0, -5.0), Point::new(5.0, -5.0), Point::new(5.0, 5.0), Point::new(-5.0, 5.0)]);
+        let params = Params { ru_collisions: mode, ..Params::default() };
+        World::new(area, vec![], vec![], params, LatticeKind::Triangular)
+    }
+
+    fn v(w: &World, i: i32, j: i32) -> VertexId {
+        w.grid.id_of(Coord::new(i, j)).unwrap()
+    }
+
+    #[test]
+    fn a_head_on_pair_backs_off_and_is_not_charged_again() {
+        let w = world(RuCollisions::BackOff);
+        let (a, b) = (v(&w, 0, 0), v(&w, 1, 0));
+        let mut r = Referee::new(&w, &[a, b]);
+        let rep = r.execute(&[b, a]);
+        assert_eq!(rep.collisions, 1);
+        assert_eq!(r.positions(), &[a, b]);
+        // Neither reached the other's vertex.
+        assert!(!r.visited().get(v(&w, 2, 0) as usize));
+        assert_eq!(r.execute(&[a, b]).collisions, 0);
+    }
+
+    #[test]
+    fn of_robots_heading_into_one_vertex_one_gets_there() {
+        let w = world(RuCollisions::BackOff);
+        let (a, b, t) = (v(&w, 0, 0), v(&w, 2, 0), v(&w, 1, 0));
+        let mut winners = [0; 2];
+        for seed in 0..40 {
+            let mut r = Referee::new(&w, &[a, b]).seeded(seed);
+            assert_eq!(r.execute(&[t, t]).collisions, 1);
+            let p = r.positions();
+            let k = usize::from(p[1] == t);
+            assert_eq!(p, if k == 0 { [t, b] } else { [a, t] }, "seed {seed}");
+            winners[k] += 1;
+        }
+        assert!(winners[0] > 5 && winners[1] > 5, "the seed draws who gets through: {winners:?}");
+    }
+
+    #[test]
+    fn stacked_robots_separate_under_back_off_and_stay_charged_per_pair() {
+        let w = world(RuCollisions::BackOff);
+        let a = v(&w, 0, 0);
+        let mut r = Referee::new(&w, &[a, a, a]);
+        assert_eq!(r.execute(&[a, a, a]).collisions, 3);
+        let p = r.positions().to_vec();
+        assert_eq!(p[0], a, "the lowest id keeps the vertex");
+        assert!(p[1] != a && p[2] != a && p[1] != p[2], "{p:?}");
+        assert!(w.can_move(a, p[1]) && w.can_move(a, p[2]));
+        for _ in 0..3 {
+            assert_eq!(r.execute(&p).collisions, 0, "standing apart costs nothing");
+        }
+
+        let w = world(RuCollisions::PerPair);
+        let mut r = Referee::new(&w, &[a, a]);
+        for _ in 0..3 {
+            assert_eq!(r.execute(&[a, a]).collisions, 1);
+            assert_eq!(r.positions(), &[a, a]);
+        }
+    }
+
+    #[test]
+    fn a_robot_whose_destination_is_taken_by_one_backing_off_backs_off_too() {
+        let w = world(RuCollisions::BackOff);
+        let (x, u, t) = (v(&w, -1, 0), v(&w, 0, 0), v(&w, 1, 0));
+        // Robot 0 follows robot 1 along a line; robot 1 runs into robot 2.
+        let mut r = Referee::new(&w, &[x, u, t]);
+        let rep = r.execute(&[u, t, t]);
+        assert_eq!(rep.collisions, 2, "the meeting and the cascade");
+        assert_eq!(r.positions(), &[x, u, t]);
+        // The same moves under per-pair: one collision, robots 1 and 2 stacked.
+        let w = world(RuCollisions::PerPair);
+        let mut r = Referee::new(&w, &[x, u, t]);
+        assert_eq!(r.execute(&[u, t, t]).collisions, 1);
+        assert_eq!(r.positions(), &[u, t, t]);
+    }
+
+    #[test]
+    fn the_penalty_is_one_move_time_per_round_under_back_off() {
+        let p = Params::default();
+        assert_eq!(p.collision_penalty(0), 0.0);
+        assert_eq!(p.collision_penalty(1), p.move_time());
+        assert_eq!(p.collision_penalty(5), p.move_time());
+        let pp = Params { ru_collisions: RuCollisions::PerPair, ..p };
+        assert_eq!(pp.collision_penalty(5), 5.0 * p.move_time());
+    }
+
+    #[test]
+    fn ru_never_stands_stacked_under_back_off() {
+        use crate::outcome::RunConfig;
+        use crate::params::Situation;
+        use crate::policy::Policy;
+        let s = crate::scenario::Scenario::load("paper").unwrap();
+        let w = s.world();
+        let starts = s.start_vertices(&w, 13).unwrap();
+        let mut collided = 0;
+        for seed in 0..5 {
+            let cfg = RunConfig { measure_coverage: false, ..RunConfig::new(Policy::Ru, seed, Situation::One) };
+            let r = crate::engine::run(&w, &starts, &cfg);
+            collided += r.collisions;
+            for k in 0..=r.rounds as usize {
+                let mut at: Vec<_> = r.trajectories.iter().map(|t| t[k].vertex.unwrap()).collect();
+                at.sort_by_key(|c| (c.i, c.j));
+                at.dedup();
+                assert_eq!(at.len(), 13, "seed {seed}: robots stacked at the start of round {k}");
+            }
+            // Every round lasts at most one penalty more than its slot and move.
+            let p = w.params;
+            let slot = p.t_exchange + 4.0 * p.t_wait + p.t_choice + 20.0 * p.t_hop + p.move_time();
+            let mut last = 0.0;
+            for &t in &r.round_end_times_s {
+                assert!(t - last <= slot + p.move_time() + 1e-6, "seed {seed}: a round of {} s", t - last);
+                last = t;
+            }
+        }
+        assert!(collided > 0, "the test must see collisions to mean anything");
     }
 }

@@ -14,6 +14,7 @@
 //! [params]                  # a, r_rob, r_safe default 1.0 / 0.25 / 0.30; r_so, r_st,
 //! a = 1.0                   # r_c default to the equality case of their assumption
 //! r_safe = 0.30             # (Params::derived); t_rot, t_trans, t_choice in seconds
+//! ru_collisions = "back-off" # RU's collisions: back-off (default) | per-pair (RuCollisions)
 //!
 //! [area]                    # required: a simple polygon, corners in either order
 //! polygon = [[0, 0], [20, 0], [20, 16], [0, 16]]
@@ -31,6 +32,8 @@
 //!
 //! [lfp]                     # optional constants of the LFP baseline (LfpParams)
 //! beta = 1.5
+//! turn = "uniform"          # or a turn sigma in radians (a correlated walk)
+//! repel_range = "sonar"     # robots repel within r_so (default) | "radio": r_c
 //! ```
 //!
 //! Errors are one line, `file:line:col: field.path: what is wrong`, for

@@ -16,7 +16,8 @@ pub(crate) fn colour(p: Policy) -> RGBColor {
         Policy::Repulsive => RGBColor(0x1f, 0x77, 0xb4),
         Policy::Escape => RGBColor(0x94, 0x67, 0xbd),
         Policy::Frontier => RGBColor(0x17, 0xbe, 0xcf),
-        _ => RGBColor(0x7f, 0x7f, 0x7f),
+        Policy::Oracle => RGBColor(0x7f, 0x7f, 0x7f),
+        _ => RGBColor(0xbc, 0xbd, 0x22),
     }
 }
 

@@ -114,6 +114,7 @@ pub fn rule_for(policy: Policy) -> Result<Box<dyn ChoiceRule>, String> {
         Policy::Escape => Box::<Escape>::default(),
         Policy::Frontier => Box::<Frontier>::default(),
         Policy::Lfp => return Err("lfp does not move on the grid: it has no choice rule".into()),
+        Policy::Oracle => return Err("oracle is a centralized planner, not a robot program: it has no choice rule".into()),
         Policy::Custom(n) => {
             // Copied out, so a factory may itself use the registry.
             let factory = CUSTOM.read().unwrap_or_else(|e| e.into_inner())[n.0 as usize].factory;

@@ -9,7 +9,7 @@ use super::{gaps, Scenario, ScenarioError, Starts};
 use crate::geometry::{Circle, Point, Polygon, Shape};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
-use crate::params::{Params, Situation};
+use crate::params::{Params, RuCollisions, Situation};
 
 type Xy = [f64; 2];
 
@@ -50,6 +50,7 @@ struct RawParams {
     retries: Option<u32>,
     suspect_rounds: Option<u32>,
     choices_update_maps: Option<bool>,
+    ru_collisions: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -233,6 +234,11 @@ impl RawParams {
             p.suspect_rounds = k;
         }
         p.choices_update_maps = self.choices_update_maps.unwrap_or(p.choices_update_maps);
+        if let Some(name) = self.ru_collisions {
+            p.ru_collisions = RuCollisions::from_name(&name).ok_or_else(|| {
+                ctx.err("params.ru_collisions", format!("must be one of {}, got `{name}`", RuCollisions::NAMES.join(", ")))
+            })?;
+        }
         Ok(p)
     }
 }
@@ -275,7 +281,9 @@ fn check_lfp(ctx: &Ctx, l: &LfpParams) -> Result<(), ScenarioError> {
             format!("must be >= 1 (steps are clamped to [a, max_step * a]), got {}", l.max_step),
         ));
     }
-    non_negative(ctx, "lfp.turn_sigma", l.turn_sigma)?;
+    if let crate::lfp::Turn::Sigma(sigma) = l.turn {
+        non_negative(ctx, "lfp.turn", sigma)?;
+    }
     non_negative(ctx, "lfp.k_robot", l.k_robot)?;
     non_negative(ctx, "lfp.k_obstacle", l.k_obstacle)?;
     Ok(())
@@ -405,4 +413,40 @@ fn start_points(
 
 fn file_stem(file: &str) -> String {
     std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or(file).to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::lfp::{RepelRange, Turn};
+    use crate::params::RuCollisions;
+    use crate::scenario::Scenario;
+
+    const AREA: &str = "[area]\npolygon = [[0, 0], [10, 0], [10, 10], [0, 10]]\n";
+
+    fn parse(tables: &str) -> Result<Scenario, String> {
+        Scenario::parse(&format!("{AREA}{tables}"), "t.toml").map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn readings_default_to_the_papers_and_switch_by_name() {
+        let s = parse("").unwrap();
+        assert_eq!(s.params.ru_collisions, RuCollisions::BackOff);
+        assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Uniform, RepelRange::Sonar));
+        let s = parse("[params]\nru_collisions = \"per-pair\"\n[lfp]\nturn = 0.5\nrepel_range = \"radio\"\n").unwrap();
+        assert_eq!(s.params.ru_collisions, RuCollisions::PerPair);
+        assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(0.5), RepelRange::Radio));
+        assert_eq!(parse("[lfp]\nturn_sigma = 1\n").unwrap().lfp.turn, Turn::Sigma(1.0));
+    }
+
+    #[test]
+    fn bad_readings_are_named_errors() {
+        let e = parse("[params]\nru_collisions = \"pairs\"\n").unwrap_err();
+        assert!(e.contains("t.toml:4:17: params.ru_collisions: must be one of back-off, per-pair, got `pairs`"), "{e}");
+        let e = parse("[lfp]\nturn = -0.5\n").unwrap_err();
+        assert!(e.contains("lfp.turn: must be >= 0, got -0.5"), "{e}");
+        let e = parse("[lfp]\nturn = \"normal\"\n").unwrap_err();
+        assert!(e.contains("lfp.turn") && e.contains("\"uniform\" or a turn sigma"), "{e}");
+        let e = parse("[lfp]\nrepel_range = \"wifi\"\n").unwrap_err();
+        assert!(e.contains("lfp.repel_range") && e.contains("sonar"), "{e}");
+    }
 }

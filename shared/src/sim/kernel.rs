@@ -170,7 +170,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
         let mut k = Kernel {
             world,
             cfg,
-            referee: Referee::new(world, starts),
+            referee: Referee::new(world, starts).seeded(cfg.seed),
             medium: Medium::new(cfg.seed, cfg.radio, micros(p.t_hop), p.r_c, n),
             links: vec![None; n],
             queue: Queue::new(),
@@ -632,7 +632,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
         if report.translated {
             dur += micros(p.t_trans);
         }
-        dur += report.collisions as Time * micros(p.move_time());
+        dur += micros(p.collision_penalty(report.collisions));
         let end = self.slot_start + dur;
         if self.trace && report.collisions > 0 {
             let g = &self.world.grid;

@@ -139,7 +139,7 @@ pub struct Plan {
 pub fn plan(opts: &RunOptions) -> Result<Plan> {
     if !opts.algorithm.on_grid() {
         return Err(Error::Input(format!(
-            "`run` drives one process per robot on the grid; `{}` moves off the grid (use `simulate --algorithm {}`)",
+            "`run` drives one process per robot on the grid; `{}` is not a robot program (use `simulate --algorithm {}`)",
             opts.algorithm, opts.algorithm
         )));
     }
@@ -388,6 +388,8 @@ mod tests {
         assert!(plan(&o).is_err());
         o.algorithm = Policy::Lfp;
         assert!(plan(&o).is_err());
+        o.algorithm = Policy::Oracle;
+        assert!(plan(&o).is_err_and(|e| e.to_string().contains("`oracle` is not a robot program")));
         let mut o = opts();
         o.retries = Some(2);
         assert_eq!(plan(&o).unwrap().world.params.retries, 2);

@@ -1,0 +1,182 @@
+//! The oracle: a centralized planner that knows the whole map (the
+//! accessible vertices and traversable edges, not the targets) and gives
+//! each algorithm a reference time (issue 8, point 3). It is not a robot
+//! program: it runs in-process only, and `run` refuses it.
+//!
+//! - **Plan** ([`plan`]): every vertex of `Va` is assigned to one robot, as
+//!   the robots' rule 4 must cover them all. A greedy multi-robot tour (the
+//!   robot whose route ends earliest extends it to its nearest unassigned
+//!   vertex, by grid distance; ties drawn from the run's seed), improved by
+//!   local search (2-opt within routes, relocating waypoints off the longest
+//!   route) on the makespan in moves.
+//! - **Execution** ([`exec`]): real trajectories, one traversable edge per
+//!   robot per round, all robots at once. Collisions are avoided in the
+//!   plan's execution by waiting a round (robots kept waiting, then those
+//!   with the most left, go first), with detours, and robots in the way
+//!   stepping aside; a robot blocked for 20 rounds moves anyway and that
+//!   counts as a collision, costing no time (none on the built-in maps in
+//!   the tests).
+//! - **Time**: motion only, per the params' move model as the world charges
+//!   it: a round lasts `t_trans` if any robot translates (or waits for
+//!   another), plus `t_rot` if any robot turns; no radio protocol, no
+//!   choice time. Situation 1 ends at the end of the round in which the
+//!   last target is detected (within `r_st` of a robot's vertex), situation
+//!   2 when every vertex of `Va` has been visited.
+
+mod exec;
+mod plan;
+#[cfg(test)]
+mod tests;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::bitset::Bitset;
+use crate::engine::RASTER_CELL;
+use crate::geometry::Point;
+use crate::grid::VertexId;
+use crate::outcome::{Pose, RunConfig, RunResult};
+use crate::params::Situation;
+use crate::policy::Policy;
+use crate::rng;
+use crate::sim::ProtocolStats;
+use crate::world::World;
+
+use exec::Exec;
+
+/// The label of the oracle's random stream (tie-breaks of the greedy plan).
+const STREAM: u64 = 0x0AC1E;
+
+/// Runs the oracle's search: robot `k` starts at `starts[k]`.
+pub fn run(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
+    let va = world.reachable_from(starts);
+    let d = plan::Dist::new(world, &va);
+    let compact: Vec<u32> = starts.iter().map(|&s| d.index[s as usize]).collect();
+    let mut rng = ChaCha8Rng::seed_from_u64(rng::derive(cfg.seed, STREAM));
+    let routes = plan::plan(&d, &compact, &mut rng);
+    Search::new(world, &d, starts, cfg, routes).run()
+}
+
+/// The execution's bookkeeping: what is found, the clock, the records.
+struct Search<'a> {
+    world: &'a World,
+    cfg: &'a RunConfig,
+    exec: Exec<'a>,
+    found: Bitset,
+    /// `|Va|`; robots move only within it.
+    va_len: usize,
+    robots: usize,
+    rounds: u32,
+    time: f64,
+    collisions: u32,
+    moves: u64,
+    robot_rounds: u64,
+    round_end_times: Vec<f64>,
+    trajectories: Vec<Vec<Pose>>,
+}
+
+impl<'a> Search<'a> {
+    fn new(
+        world: &'a World,
+        d: &'a plan::Dist,
+        starts: &[VertexId],
+        cfg: &'a RunConfig,
+        routes: Vec<plan::Route>,
+    ) -> Self {
+        let exec = Exec::new(world, d, routes);
+        let mut s = Search {
+            world,
+            cfg,
+            exec,
+            found: Bitset::new(world.targets.len()),
+            va_len: d.len(),
+            robots: starts.len(),
+            rounds: 0,
+            time: 0.0,
+            collisions: 0,
+            moves: 0,
+            robot_rounds: 0,
+            round_end_times: Vec::new(),
+            trajectories: if cfg.record_trajectories { vec![Vec::new(); starts.len()] } else { Vec::new() },
+        };
+        s.sense();
+        s
+    }
+
+    /// Lasers at every robot's vertex, and the poses of the round's start.
+    fn sense(&mut self) {
+        let grid = &self.world.grid;
+        for k in 0..self.robots {
+            let v = self.exec.position(k);
+            for &t in self.world.targets_near(v) {
+                self.found.set(t as usize);
+            }
+            if let Some(t) = self.trajectories.get_mut(k) {
+                t.push(Pose { vertex: Some(grid.coord(v)), position: grid.position(v) });
+            }
+        }
+    }
+
+    fn done(&self) -> bool {
+        match self.cfg.situation {
+            Situation::One => self.found.count() == self.world.targets.len(),
+            Situation::Two => self.exec.visited.count() == self.va_len,
+        }
+    }
+
+    fn run(mut self) -> RunResult {
+        let n = self.robots;
+        while !self.done() && self.rounds < self.cfg.max_rounds && (0..n).any(|k| self.exec.busy(k)) {
+            let busy = (0..n).filter(|&k| self.exec.busy(k)).count() as u64;
+            let before: Vec<VertexId> = (0..n).map(|k| self.exec.position(k)).collect();
+            let round = self.exec.step();
+            self.moves += (0..n).filter(|&k| self.exec.position(k) != before[k]).count() as u64;
+            self.robot_rounds += busy;
+            self.collisions += round.forced;
+            let p = &self.world.params;
+            if round.translated || round.waited {
+                self.time += p.t_trans;
+            }
+            if round.rotated {
+                self.time += p.t_rot;
+            }
+            self.rounds += 1;
+            self.round_end_times.push(self.time);
+            self.sense();
+        }
+        self.finish(n)
+    }
+
+    fn finish(self, n: usize) -> RunResult {
+        let world = self.world;
+        let complete = self.done();
+        let ended = if complete {
+            "stop"
+        } else if self.rounds >= self.cfg.max_rounds {
+            "max_rounds"
+        } else {
+            "no_robots"
+        };
+        let coverage = self.cfg.measure_coverage.then(|| {
+            let centres: Vec<Point> = self.exec.visited.iter().map(|v| world.grid.position(v as VertexId)).collect();
+            world.raster(RASTER_CELL * world.params.a).detected_fraction(centres, world.params.r_st)
+        });
+        RunResult {
+            algorithm: Policy::Oracle,
+            robots: n,
+            seed: self.cfg.seed,
+            situation: self.cfg.situation.number(),
+            rounds: self.rounds,
+            search_time_s: self.time,
+            targets_found: self.found.count(),
+            targets_total: world.targets.len(),
+            collisions: self.collisions,
+            coverage,
+            complete,
+            robot_rounds: self.robot_rounds,
+            trajectories: self.trajectories,
+            round_end_times_s: self.round_end_times,
+            protocol: ProtocolStats { ended_by: ended.to_string(), moves: self.moves, ..Default::default() },
+        }
+    }
+}

@@ -1,0 +1,127 @@
+//! The oracle covers `Va`, moves along traversable edges, plans no worse
+//! than one robot's tour shared out, and repeats itself for a seed.
+
+use super::*;
+use crate::scenario::Scenario;
+
+fn cfg(seed: u64, situation: Situation) -> RunConfig {
+    RunConfig { measure_coverage: false, ..RunConfig::new(Policy::Oracle, seed, situation) }
+}
+
+fn load(name: &str) -> (World, Vec<VertexId>) {
+    let s = Scenario::load(name).unwrap();
+    let w = s.world();
+    let starts = s.start_vertices(&w, 13).unwrap();
+    (w, starts)
+}
+
+#[test]
+fn situation_two_visits_every_vertex_of_va_along_traversable_edges() {
+    for name in ["paper", "cave", "small"] {
+        let (w, all) = load(name);
+        for robots in [1, 6, 13] {
+            let starts = &all[..robots];
+            let r = run(&w, starts, &cfg(3, Situation::Two));
+            assert!(r.complete, "{name} {robots}");
+            assert_eq!(r.protocol.ended_by, "stop");
+            let mut seen = vec![false; w.grid.len()];
+            for t in &r.trajectories {
+                assert_eq!(t.len(), r.rounds as usize + 1);
+                let ids: Vec<VertexId> = t.iter().map(|p| w.grid.id_of(p.vertex.unwrap()).unwrap()).collect();
+                for s in ids.windows(2) {
+                    assert!(s[0] == s[1] || w.can_move(s[0], s[1]), "{name} {robots}: a jump");
+                }
+                for &v in &ids {
+                    seen[v as usize] = true;
+                }
+            }
+            let va = w.reachable_from(starts);
+            assert!((0..w.grid.len()).all(|v| !va[v] || seen[v]), "{name} {robots}: a vertex of Va never visited");
+            assert_eq!(r.collisions, 0, "{name} {robots}: forced moves");
+        }
+    }
+}
+
+#[test]
+fn robots_never_meet() {
+    let (w, starts) = load("paper");
+    let limit = 2.0 * w.params.r_safe;
+    let r = run(&w, &starts, &cfg(1, Situation::Two));
+    for k in 0..r.rounds as usize {
+        for i in 0..starts.len() {
+            for j in i + 1..starts.len() {
+                let (a, b) = (&r.trajectories[i], &r.trajectories[j]);
+                let d = crate::geometry::swept_min_distance(a[k].position, a[k + 1].position, b[k].position, b[k + 1].position);
+                assert!(d >= limit, "robots {i} and {j} meet in round {k}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_plan_shares_one_robots_tour_out() {
+    let (w, all) = load("paper");
+    let va = w.reachable_from(&all);
+    let d = plan::Dist::new(&w, &va);
+    let stream = || ChaCha8Rng::seed_from_u64(5);
+    let single = plan::plan(&d, &[d.index[all[0] as usize]], &mut stream())[0].cost(&d);
+    // A tour of every vertex takes at least one move per vertex.
+    assert!(single as usize >= d.len() - 1, "{single}");
+    for robots in [2, 6, 13] {
+        let starts: Vec<u32> = all[..robots].iter().map(|&s| d.index[s as usize]).collect();
+        let routes = plan::plan(&d, &starts, &mut stream());
+        let makespan = plan::makespan(&d, &routes);
+        // Cutting the tour into shares costs each robot at most the walk to
+        // its share: the farthest any start is from any vertex.
+        let far = starts.iter().flat_map(|&s| (0..d.len() as u32).map(move |v| (s, v))).map(|(s, v)| d.get(s, v)).max().unwrap();
+        let bound = single.div_ceil(robots as u32) + far;
+        assert!(makespan <= bound, "{robots} robots: makespan {makespan} > {bound} (single {single})");
+        // And never below the vertices each robot must still reach.
+        assert!(makespan as usize >= (d.len() - robots).div_ceil(robots), "{robots}: {makespan}");
+        // Every vertex is some route's waypoint or start, exactly once.
+        let mut count = vec![0; d.len()];
+        for r in &routes {
+            for &v in &r.stops {
+                count[v as usize] += 1;
+            }
+        }
+        for &s in &starts {
+            count[s as usize] += 1;
+        }
+        assert!(count.iter().all(|&c| c == 1), "{robots}: a vertex assigned {:?} times", count.iter().max());
+    }
+}
+
+#[test]
+fn deterministic_for_a_seed_and_seeds_break_ties() {
+    let (w, starts) = load("paper");
+    let a = run(&w, &starts[..6], &cfg(7, Situation::One));
+    let b = run(&w, &starts[..6], &cfg(7, Situation::One));
+    assert_eq!(a.trajectories, b.trajectories);
+    assert_eq!((a.search_time_s, a.rounds), (b.search_time_s, b.rounds));
+    assert!(a.complete && a.targets_found == a.targets_total);
+    let differ = (0..5).any(|s| run(&w, &starts[..6], &cfg(s, Situation::One)).trajectories != a.trajectories);
+    assert!(differ, "the seed changes nothing");
+}
+
+#[test]
+fn time_counts_motion_only() {
+    let (w, starts) = load("paper");
+    let p = w.params;
+    let r = run(&w, &starts[..1], &cfg(2, Situation::Two));
+    // One robot: every round moves it; it rotates only when it turns.
+    let lo = r.rounds as f64 * p.t_trans;
+    let hi = lo + r.rounds as f64 * p.t_rot;
+    assert!(r.search_time_s > lo && r.search_time_s < hi, "{} not in ({lo}, {hi})", r.search_time_s);
+    assert_eq!(r.round_end_times_s.len(), r.rounds as usize);
+    assert_eq!(r.round_end_times_s.last().copied(), Some(r.search_time_s));
+}
+
+#[test]
+fn no_targets_means_done_at_once() {
+    let (w0, _) = load("paper");
+    let w = World::new(w0.area.clone(), w0.obstacles.clone(), vec![], w0.params, w0.grid.lattice.kind);
+    let starts: Vec<VertexId> = w.accessible_vertices().take(3).collect();
+    let r = run(&w, &starts, &cfg(0, Situation::One));
+    assert!(r.complete && r.rounds == 0 && r.search_time_s == 0.0);
+}
