@@ -21,6 +21,7 @@ fn main() {
         max_rounds: experiment::DEFAULT_MAX_ROUNDS,
         progress: false,
         maps: None,
+        verbose: false,
     };
     println!("threads: {}", rayon::current_num_threads());
     let mut walls = Vec::new();

@@ -98,8 +98,9 @@ enum Command {
         #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2), conflicts_with = "grids")]
         situation: Option<u8>,
         /// Output directory (created if missing).
-        #[arg(long, default_value = DEFAULT_OUT)]
-        out: PathBuf,
+        /// Where to write [default: experiment-out, or grids-out with --grids].
+        #[arg(long)]
+        out: Option<PathBuf>,
         /// A run not stopped after this many rounds ends incomplete and is left out of the means.
         #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "grids")]
         max_rounds: u32,
@@ -111,6 +112,9 @@ enum Command {
         /// from, report.html shows the spread over maps.
         #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=100_000), conflicts_with = "grids")]
         maps: Option<u32>,
+        /// Print every claim's evidence, not only its verdict (claims.txt always has it).
+        #[arg(long, conflicts_with = "grids")]
+        verbose: bool,
     },
     /// Write (or rewrite) DIR/replay.html, the page that plays a run back,
     /// from the files a run wrote there; prints the page's path.
@@ -383,6 +387,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
         }
         Command::Experiment { kind: Some(kind), .. } => emit(&experiment_kind(kind)?),
         Command::Experiment { scenario, out, grids: true, .. } => {
+            let out = out.unwrap_or_else(|| PathBuf::from(grids::DEFAULT_OUT));
             let (_, text) = grids::run(&GridsOptions { scenario, out })?;
             emit(&text);
         }
@@ -398,6 +403,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             grids: false,
             kind: None,
             maps,
+            verbose,
         } => {
             let opts = ExperimentOptions {
                 scenario,
@@ -406,10 +412,11 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 runs,
                 seed,
                 situation: situation(s),
-                out,
+                out: out.unwrap_or_else(|| PathBuf::from(DEFAULT_OUT)),
                 max_rounds,
                 progress: experiment::stderr_is_terminal(),
                 maps,
+                verbose,
             };
             let (_, text) = experiment::run(&opts)?;
             emit(&text);

@@ -417,6 +417,10 @@ fn ended_by_names_the_real_reason() {
     assert!(stdout(&o).contains("INCOMPLETE (max_rounds: round limit reached) after 2 rounds"), "{}", stdout(&o));
     let o = gridswarm(&["simulate", "--robots", "3"]);
     assert!(stdout(&o).contains("complete (stop:"), "{}", stdout(&o));
+    // Every robot killed: the reason is said, not "round limit".
+    let o = gridswarm(&["simulate", "--robots", "2", "--kill", "0@1", "--kill", "1@1"]);
+    assert!(stdout(&o).contains("INCOMPLETE (no_robots"), "{}", stdout(&o));
+    assert!(!stdout(&o).contains("round limit"), "{}", stdout(&o));
     assert_eq!(simulate_json(&["--robots", "3"])["ended_by"], "stop");
 }
 
@@ -547,4 +551,17 @@ fn routes_of_a_large_map_stay_small() {
     assert_ok(&o);
     let size = fs::metadata(d.join("run").join("routes.svg")).unwrap().len();
     assert!(size < 2_000_000, "routes.svg is {size} bytes");
+}
+
+#[test]
+fn an_unwritable_out_fails_before_any_run() {
+    let d = scratch("unwritable_out");
+    let file = d.join("file");
+    fs::write(&file, "x").unwrap();
+    // A sweep of thousands of runs: it must not start at all.
+    let t = std::time::Instant::now();
+    let o = gridswarm(&["experiment", "--runs", "5000", "--out", path(&file.join("out"))]);
+    let err = assert_clean_error(&o);
+    assert!(t.elapsed().as_secs_f64() < 5.0, "ran before failing: {err}");
+    assert!(!stdout(&o).contains("runs in"), "{}", stdout(&o));
 }

@@ -1,6 +1,6 @@
 //! The paper's assumptions, checked on a concrete scenario and world.
 //!
-//! A scenario that breaks an assumption still runs (READING.md "Ranges and
+//! A scenario that breaks an assumption still runs (docs/paper.md "Ranges and
 //! Table 1"); this module says which assumptions hold, with the numbers, so a
 //! run can be read against Theorem 4.1. Besides the paper's assumptions it
 //! reports facts a complete search depends on: the size of `Va`, whether the

@@ -1,5 +1,5 @@
 //! LFP: Levy flight with an artificial potential field (Sutantyo et al.
-//! 2010), the continuous-motion baseline of Fig. 7 (READING.md "The
+//! 2010), the continuous-motion baseline of Fig. 7 (docs/paper.md "The
 //! algorithms compared"). Robots leave the grid, know no map, and search by
 //! heavy-tailed random flights bent by repulsion from each other and from
 //! the obstacles they sense.
@@ -43,7 +43,7 @@
 //!   (Assumption 2.4) the robot senses everything this check uses; with a
 //!   shorter sonar the check still applies, because the ground truth does not
 //!   let robots into walls.
-//! - **Time** (READING.md "Time"). A round lasts `t_choice` (every robot
+//! - **Time** (docs/paper.md "Time"). A round lasts `t_choice` (every robot
 //!   computes its own move at once: one unit) plus `t_trans` (one sub-step of
 //!   at most `a`), plus `t_rot` if any robot rotates on the spot: it starts a
 //!   new flight, or its direction of motion changes by more than
@@ -113,7 +113,7 @@ use sensing::Sensing;
 #[serde(default, deny_unknown_fields)]
 pub struct LfpParams {
     /// Levy exponent of Mantegna's method, meaningful in `(0, 2)`. Default
-    /// 1.5: READING.md's suggestion and the common choice in Levy search.
+    /// 1.5: docs/paper.md's suggestion and the common choice in Levy search.
     pub beta: f64,
     /// Flight lengths are `scale * a * s` for a Mantegna draw `s`, clamped to
     /// `[a, max_step * a]`. Default 1.0: `s` itself in grid sides, so with

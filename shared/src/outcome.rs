@@ -69,7 +69,7 @@ pub struct RunResult {
     /// Rounds played (slots in which the team moved), until every robot
     /// stopped or the round limit.
     pub rounds: u32,
-    /// Simulated search time (READING.md "Time"), not wall time: until the
+    /// Simulated search time (docs/paper.md "Time"), not wall time: until the
     /// first stop that ends the search, or the end of the run without one.
     pub search_time_s: f64,
     pub targets_found: usize,

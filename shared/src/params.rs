@@ -1,9 +1,9 @@
-//! Ranges and times of READING.md's Table 1, and the situation being searched.
+//! Ranges and times of docs/paper.md's Table 1, and the situation being searched.
 
 use serde::{Deserialize, Serialize};
 
 /// Physical parameters of the robots and the grid. The defaults are the
-/// project's reading of the lost Table 1 (READING.md): `a`, `r_rob`,
+/// project's reading of the lost Table 1 (docs/paper.md): `a`, `r_rob`,
 /// `r_safe` and the move times are given, every range is the equality case
 /// of its assumption.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

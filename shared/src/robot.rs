@@ -1,4 +1,4 @@
-//! The decision core: one robot's side of a round (READING.md "One round"),
+//! The decision core: one robot's side of a round (docs/paper.md "One round"),
 //! as a state machine with no I/O and no clock. The robot's radio protocol
 //! ([`crate::peer`]) drives it the same way in both engines:
 //!
@@ -38,7 +38,7 @@ pub struct RobotConfig {
     pub targets_total: usize,
     pub r_safe: f64,
     pub seed: u64,
-    /// Reading "choices update maps" (READING.md): a received choice marks
+    /// Reading "choices update maps" (docs/paper.md): a received choice marks
     /// its vertex visited in the receiver's map at once.
     pub choices_update_maps: bool,
 }

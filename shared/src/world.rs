@@ -1,6 +1,6 @@
 //! The ground truth: area, obstacles and targets laid over the grid frame.
 //! Decides which vertices are accessible and which edges traversable by the
-//! `r_safe` clearance (READING.md "The world"), and measures the detected
+//! `r_safe` clearance (docs/paper.md "The world"), and measures the detected
 //! fraction of `Ad` on a raster. Only engines and the world-server hold a
 //! `World`; a robot learns of it through sensing alone.
 

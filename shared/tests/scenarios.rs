@@ -444,3 +444,26 @@ fn other_lattices_place_robots_too() {
         assert!(!r.get("3.1.2").unwrap().holds && !r.get("coverage").unwrap().holds, "{grid}:\n{r}");
     }
 }
+
+/// docs/scenario-format.md's reference sets every field: it must parse
+/// (every section denies unknown fields, so a misspelt key fails), and every
+/// parameter the code knows must appear in it, so the reference cannot fall
+/// behind the code.
+#[test]
+fn docs_scenario_reference_parses() {
+    let doc = include_str!("../../docs/scenario-format.md");
+    let start = doc.find("```toml\n").expect("a toml block") + "```toml\n".len();
+    let text = &doc[start..start + doc[start..].find("```").expect("the block ends")];
+    let s = Scenario::parse(text, "docs/scenario-format.md").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((s.name.as_str(), s.robots, s.targets.len(), s.obstacles.len()), ("reference", 4, 2, 3));
+    let table: toml::Table = toml::from_str(text).unwrap();
+    let keys = |section: &str| -> Vec<String> { table[section].as_table().unwrap().keys().cloned().collect() };
+    let params = serde_json::to_value(s.params).unwrap();
+    for k in params.as_object().unwrap().keys() {
+        assert!(keys("params").contains(k), "[params] {k} is not in the reference");
+    }
+    let lfp = serde_json::to_value(gridswarm::lfp::LfpParams::default()).unwrap();
+    for k in lfp.as_object().unwrap().keys() {
+        assert!(keys("lfp").contains(k), "[lfp] {k} is not in the reference");
+    }
+}

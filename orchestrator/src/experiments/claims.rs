@@ -370,7 +370,8 @@ fn sharp_then_slow(t: &Table, present: &[Policy]) -> ClaimResult {
     let mut lines = Vec::new();
     let mut per_alg = Vec::new();
     let (mut evaluated, mut passed) = (0, 0);
-    for &p in present {
+    // Fig. 7's curves only: the baselines from outside the paper make no such claim.
+    for &p in present.iter().filter(|p| ORDER.contains(p)) {
         let counts = t.counts_of(p);
         let (Some(&lo), Some(&hi)) = (counts.first(), counts.last()) else {
             lines.push(format!("  {}: not evaluated (no completed runs)", p.paper_label()));
@@ -424,6 +425,18 @@ fn sharp_then_slow(t: &Table, present: &[Policy]) -> ClaimResult {
         lines,
         data: json!({ "per_algorithm": per_alg }),
     }
+}
+
+/// One line per claim: its verdict and the evidence's last line (the count
+/// it rests on), for the terminal; [`render`] has the details.
+pub fn render_short(claims: &[ClaimResult]) -> String {
+    let mut out = String::new();
+    for c in claims {
+        let last = c.lines.last().map(|l| l.trim()).unwrap_or("");
+        let _ = writeln!(out, "Claim ({}) {}: {} ({last})", c.id, c.statement, c.verdict.word());
+    }
+    out += "details: claims.txt, or --verbose\n";
+    out
 }
 
 /// The claims as text, for the terminal and `claims.txt`.

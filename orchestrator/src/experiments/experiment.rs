@@ -28,6 +28,7 @@ use crate::error::{Error, Result};
 use crate::maps;
 use crate::robots::compress;
 use crate::seeds::run_seed;
+use crate::staging::Staging;
 use crate::stats::{CellStats, RunRecord};
 use crate::{check, output, plot, report};
 
@@ -53,6 +54,8 @@ pub struct ExperimentOptions {
     pub progress: bool,
     /// Average over this many random maps (`scenario` must be `random:...`).
     pub maps: Option<u32>,
+    /// Print every claim's evidence, not only its verdict (claims.txt has it always).
+    pub verbose: bool,
 }
 
 /// Everything a sweep produced.
@@ -108,7 +111,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     }
     let scenario = maps[0].scenario.clone();
     // Before any run, so a bad directory fails at once.
-    output::create_dir(&opts.out)?;
+    let stage = Staging::begin(&opts.out)?;
     let worlds: Vec<World> = maps.iter().map(|m| m.scenario.world()).collect();
     let lfp = contract::lfp_params(&scenario);
     let starts =
@@ -131,6 +134,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     // Paired run by run: run k of every algorithm shares its seed and map.
     let per_cell: Vec<&[RunRecord]> = pooled.iter().map(Vec::as_slice).collect();
     let claims = claims::evaluate(&cells, &per_cell);
+    let oracle = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
     let map_rows = maps::rows(&maps);
     let spreads = maps::spreads(&per_map);
     let several = opts.maps.is_some();
@@ -154,7 +158,23 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         serde_json::to_string(&lfp).expect("lfp params serialise"),
     );
 
-    let out = &opts.out;
+    let spread_note = if several { format!("{}\n", crate::spread::one_line(&spreads)) } else { String::new() };
+    let shown_claims = if opts.verbose { claims::render(&claims) } else { claims::render_short(&claims) };
+    let text = format!(
+        "{}{}{spread_note}\n{}{shown_claims}\n{} runs in {wall_time_s:.2} s wall time on {} threads; \
+         wrote results.csv, runs.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
+        if opts.verbose { setup.clone() } else { short_setup(&scenario, opts, maps.len()) + &maps_line },
+        table(&cells, &oracle),
+        incomplete_note(&cells, opts.max_rounds),
+        records.len(),
+        rayon::current_num_threads(),
+        if several { "maps.csv, " } else { "" },
+        opts.out.display()
+    );
+    // Every file goes into a staging folder renamed into place at the end;
+    // if a write fails the table is still shown, then the error.
+    let out = &stage.path().to_path_buf();
+    let write = || -> Result<()> {
     let map_cells: &[Vec<CellStats>] = if several { &per_map } else { &[] };
     output::write_text(&out.join("results.csv"), &results_csv(&cells, map_cells))?;
     output::write_file(&out.join("runs.csv"), |w| plan.write_runs_csv(w, &records))?;
@@ -184,14 +204,16 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         "robots": opts.robots,
         "runs": opts.runs,
         "seed": opts.seed,
-        "seed_derivation": "run k of (algorithm, robots) has seed \
-            derive(derive(derive(seed, fnv1a(algorithm name)), robots), k) with gridswarm::rng::derive",
+        "seed_derivation": "run k with N robots has seed derive(derive(seed, N), k) with gridswarm::rng::derive, \
+            the same for every algorithm (common random numbers: claims compare runs pairwise)",
         "max_rounds": opts.max_rounds,
         "params": scenario.params,
         "lfp": lfp,
         "statistics": "mean, std (n-1), ci95 = 1.96 std / sqrt(n), median, rounds and collisions over completed \
             runs; mean_targets_found over all runs",
         "cells": cells,
+        "oracle_reference_s": oracle,
+        "oracle_reference": ORACLE_NOTE,
         "claims": claims,
     });
     if several {
@@ -212,21 +234,82 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         wall_time_s,
         threads: rayon::current_num_threads(),
         runs_total: records.len(),
+        oracle: &oracle,
         extra: if several { crate::spread::sections(&map_rows, &spreads) } else { Vec::new() },
     });
-    output::write_text(&out.join("report.html"), &report::render(&page))?;
-
-    let spread_note = if several { format!("{}\n", crate::spread::one_line(&spreads)) } else { String::new() };
-    let text = format!(
-        "{setup}{}{spread_note}\n{claims_text}\n{} runs in {wall_time_s:.2} s wall time on {} threads; \
-         wrote results.csv, runs.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
-        table(&cells),
-        records.len(),
-        rayon::current_num_threads(),
-        if several { "maps.csv, " } else { "" },
-        out.display()
-    );
+    output::write_text(&out.join("report.html"), &report::render(&page))
+    };
+    write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
     Ok((Sweep { cells, claims, wall_time_s, robot_rounds }, text))
+}
+
+/// How the oracle's reference times are made, for summary.json and reports.
+pub const ORACLE_NOTE: &str = "the oracle (a centralized planner that knows the map, not the targets) at each \
+    robot count: its cell when the sweep runs it, else up to 10 runs per map on the same seeds and starts";
+
+/// Runs of the oracle per map made only for the reference (it takes about
+/// 10 ms a run, the robots a fraction of that).
+const ORACLE_REFERENCE_RUNS: usize = 10;
+
+/// The oracle's mean search time at each robot count: from the sweep when
+/// it ran the oracle, else from a few runs of its own.
+fn oracle_reference(
+    plan: &Plan,
+    runners: &[Runner],
+    cells: &[CellStats],
+    situation: Situation,
+    opts: &ExperimentOptions,
+) -> BTreeMap<usize, f64> {
+    if plan.algorithms.contains(&Policy::Oracle) {
+        return cells
+            .iter()
+            .filter(|c| c.algorithm == Policy::Oracle)
+            .filter_map(|c| Some((c.robots, c.mean_search_time_s?)))
+            .collect();
+    }
+    let runs = plan.runs.min(ORACLE_REFERENCE_RUNS);
+    let jobs: Vec<(usize, usize, usize)> = (0..runners.len())
+        .flat_map(|m| (0..plan.robots.len()).flat_map(move |r| (0..runs).map(move |k| (m, r, k))))
+        .collect();
+    let times: Vec<(usize, Option<f64>)> = jobs
+        .par_iter()
+        .map(|&(m, r, k)| {
+            let seed = run_seed(opts.seed, plan.robots[r], (m * plan.runs + k) as u64);
+            let mut cfg = RunConfig::new(Policy::Oracle, seed, situation);
+            cfg.max_rounds = opts.max_rounds;
+            cfg.record_trajectories = false;
+            cfg.measure_coverage = false;
+            let res = runners[m].run(&plan.starts[m][r], &cfg);
+            (r, res.complete.then_some(res.search_time_s))
+        })
+        .collect();
+    let mut out = BTreeMap::new();
+    for (r, &n) in plan.robots.iter().enumerate() {
+        let done: Vec<f64> = times.iter().filter(|t| t.0 == r).filter_map(|t| t.1).collect();
+        if !done.is_empty() {
+            out.insert(n, done.iter().sum::<f64>() / done.len() as f64);
+        }
+    }
+    out
+}
+
+/// A cell's mean search time over the oracle's at its robot count.
+pub fn ratio_to(oracle: &BTreeMap<usize, f64>, c: &CellStats) -> Option<f64> {
+    Some(c.mean_search_time_s? / oracle.get(&c.robots).filter(|&&o| o > 0.0)?)
+}
+
+/// The sweep's setting in one line, for the terminal (claims.txt and
+/// summary.json have every parameter).
+fn short_setup(scenario: &Scenario, opts: &ExperimentOptions, maps: usize) -> String {
+    format!(
+        "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {} (parameters in summary.json)\n",
+        scenario.name,
+        scenario.grid.name(),
+        scenario.situation.number(),
+        opts.runs,
+        if maps > 1 { format!(" and map, {maps} maps") } else { String::new() },
+        opts.seed
+    )
 }
 
 /// Start vertices for every robot count, placed before any run: a count the
@@ -396,18 +479,20 @@ pub fn results_csv(cells: &[CellStats], per_map: &[Vec<CellStats>]) -> String {
 }
 
 /// The cells as an aligned table for the terminal.
-pub fn table(cells: &[CellStats]) -> String {
+/// The terminal's results table; `x_oracle` is the mean over the oracle's
+/// mean at the same robot count.
+pub fn table(cells: &[CellStats], oracle: &BTreeMap<usize, f64>) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<11} {:<12} {:>6} {:>6} {:>10} {:>9} {:>9} {:>10}",
-        "algorithm", "label", "robots", "done", "mean_s", "ci95_s", "rounds", "collisions"
+        "{:<11} {:<12} {:>6} {:>7} {:>9} {:>8} {:>8} {:>10} {:>8}",
+        "algorithm", "label", "robots", "done", "mean_s", "ci95_s", "rounds", "collisions", "x_oracle"
     );
     let f = |x: Option<f64>, d: usize| x.map(|v| format!("{v:.d$}")).unwrap_or_else(|| "-".into());
     for c in cells {
         let _ = writeln!(
             s,
-            "{:<11} {:<12} {:>6} {:>6} {:>10} {:>9} {:>9} {:>10}",
+            "{:<11} {:<12} {:>6} {:>7} {:>9} {:>8} {:>8} {:>10} {:>8}",
             c.algorithm.name(),
             c.algorithm.paper_label(),
             c.robots,
@@ -415,7 +500,8 @@ pub fn table(cells: &[CellStats]) -> String {
             f(c.mean_search_time_s, 1),
             f(c.ci95_s, 1),
             f(c.mean_rounds, 1),
-            f(c.mean_collisions, 2)
+            f(c.mean_collisions, 2),
+            f(ratio_to(oracle, c), 2)
         );
     }
     s

@@ -41,6 +41,9 @@ pub struct GridRow {
 /// sliver a few centimetres wide shows up.
 pub const RASTER_DIVISIONS: f64 = 20.0;
 
+/// Where `experiment --grids` writes unless told: not the sweep's folder.
+pub const DEFAULT_OUT: &str = "grids-out";
+
 pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
     let base = contract::load_scenario(&opts.scenario)?;
     let stage = Staging::begin(&opts.out)?;

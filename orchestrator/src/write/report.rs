@@ -5,6 +5,7 @@
 //! [`render`]; the Fig. 7 sweep's is [`fig7`]. The failure and scaling
 //! experiments are meant to reuse the same blocks, so all reports look alike.
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use serde_json::Value;
@@ -286,7 +287,7 @@ pub fn render(report: &Report) -> String {
 }
 
 /// The results table of a Fig. 7 sweep, one row per (algorithm, robots).
-pub fn cells_table(cells: &[CellStats]) -> Table {
+pub fn cells_table(cells: &[CellStats], oracle: &BTreeMap<usize, f64>) -> Table {
     let f = |x: Option<f64>, d: usize| x.map(|v| format!("{v:.d$}")).unwrap_or_else(|| "-".into());
     Table {
         header: [
@@ -301,6 +302,7 @@ pub fn cells_table(cells: &[CellStats]) -> Table {
             "mean rounds",
             "mean collisions",
             "mean targets found",
+            "× oracle",
         ]
         .map(String::from)
         .to_vec(),
@@ -319,6 +321,7 @@ pub fn cells_table(cells: &[CellStats]) -> Table {
                     f(c.mean_rounds, 1),
                     f(c.mean_collisions, 2),
                     format!("{:.2}", c.mean_targets_found),
+                    f(crate::experiment::ratio_to(oracle, c), 2),
                 ]
             })
             .collect(),
@@ -337,6 +340,9 @@ pub struct Fig7Inputs<'a> {
     pub wall_time_s: f64,
     pub threads: usize,
     pub runs_total: usize,
+    /// The oracle's mean search time by robot count, the reference of the
+    /// "× oracle" column.
+    pub oracle: &'a BTreeMap<usize, f64>,
     /// Sections after the results (the per-map spread of a sweep over maps).
     pub extra: Vec<Section>,
 }
@@ -385,7 +391,16 @@ pub fn fig7(x: &Fig7Inputs) -> Report {
             }],
         ),
         Section::new("Claims", claims_blocks),
-        Section::new("Results", vec![Block::Table(cells_table(x.cells))]),
+        Section::new(
+            "Results",
+            vec![
+                Block::Table(cells_table(x.cells, x.oracle)),
+                Block::Text(format!(
+                    "× oracle: the mean search time over the oracle's at the same robot count; the oracle is {}.",
+                    crate::experiment::ORACLE_NOTE
+                )),
+            ],
+        ),
     ];
     sections.extend(x.extra.iter().cloned());
     sections.push(Section::new("Parameters", vec![Block::Params(setup)]));
@@ -522,7 +537,7 @@ mod tests {
             median_search_time_s: Some(99.0),
             mean_targets_found: 9.0,
         };
-        let t = cells_table(&[c]);
+        let t = cells_table(&[c], &BTreeMap::new());
         assert_eq!(t.rows[0][..5], ["ru", "RU", "4", "4/5", "100.0"].map(String::from));
         assert_eq!(t.rows[0][5], "-");
     }

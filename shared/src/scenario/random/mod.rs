@@ -17,7 +17,7 @@
 //! `passage` (default 2 m, above `W_pass` = 1.6 m); `targets` targets (9,
 //! situation 1, as `paper`) spread over the reachable vertices, each within
 //! half a grid side of one; `robots` robots on the border from the
-//! bottom-left corner; the default parameters (Table 1 as READING.md
+//! bottom-left corner; the default parameters (Table 1 as docs/paper.md
 //! restores it).
 //!
 //! What `break=ID` changes: `2.4`, `2.5` and `3.1.1` lower `r_so`, `r_c` and
