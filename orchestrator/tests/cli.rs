@@ -210,6 +210,18 @@ fn small_experiment_writes_tables_figure_and_claims() {
         serde_json::from_str(&fs::read_to_string(one.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["claims"].as_array().unwrap().len(), 3);
     assert!(summary["params"]["a"].is_f64());
+    // Short by default: the table and a line per claim, the evidence in claims.txt.
+    assert!(text.lines().count() < 30, "{text}");
+    assert!(fs::read_to_string(one.join("claims.txt")).unwrap().contains("params: {"));
+    // Each algorithm against the oracle, and the baselines under their other readings.
+    let oracle = summary["oracle_reference_s"].as_object().unwrap();
+    assert_eq!(oracle.len(), 3, "{summary}");
+    assert!(text.contains("x_oracle"), "{text}");
+    let readings = summary["sensitivity"].as_array().unwrap();
+    // RU's per-pair collisions, LFP's turn and repulsion range, at 3 counts.
+    assert_eq!(readings.len(), 3 * 3, "{summary}");
+    let html = fs::read_to_string(one.join("report.html")).unwrap();
+    assert!(html.contains("Sensitivity to the readings") && html.contains("× oracle"));
 
     // Seeds depend on the run, not on the thread that ran it.
     let a2 = args(&many);

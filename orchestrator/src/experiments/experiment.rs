@@ -28,6 +28,7 @@ use crate::error::{Error, Result};
 use crate::maps;
 use crate::robots::compress;
 use crate::seeds::run_seed;
+use crate::sensitivity;
 use crate::staging::Staging;
 use crate::stats::{CellStats, RunRecord};
 use crate::{check, output, plot, report};
@@ -135,6 +136,8 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     let per_cell: Vec<&[RunRecord]> = pooled.iter().map(Vec::as_slice).collect();
     let claims = claims::evaluate(&cells, &per_cell);
     let oracle = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
+    // On the first map, the sweep's first runs under the other readings.
+    let readings = sensitivity::run(&maps[0].scenario, &algorithms, &opts.robots, &starts[0], opts.seed, opts.max_rounds);
     let map_rows = maps::rows(&maps);
     let spreads = maps::spreads(&per_map);
     let several = opts.maps.is_some();
@@ -214,6 +217,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         "cells": cells,
         "oracle_reference_s": oracle,
         "oracle_reference": ORACLE_NOTE,
+        "sensitivity": readings,
         "claims": claims,
     });
     if several {
@@ -235,7 +239,11 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         threads: rayon::current_num_threads(),
         runs_total: records.len(),
         oracle: &oracle,
-        extra: if several { crate::spread::sections(&map_rows, &spreads) } else { Vec::new() },
+        extra: [report::sensitivity_section(&readings)]
+            .into_iter()
+            .flatten()
+            .chain(if several { crate::spread::sections(&map_rows, &spreads) } else { Vec::new() })
+            .collect(),
     });
     output::write_text(&out.join("report.html"), &report::render(&page))
     };

@@ -2,7 +2,8 @@
 //! sweep (`experiment`), `failures`, `radio`, `scale`, the lattice
 //! comparison (`grids`), the paper's claims, and the pieces they share:
 //! running jobs on either engine (`sweep`), reading a run's figures
-//! (`tally`), statistics, seeds, and the maps a sweep runs on (`maps`).
+//! (`tally`), statistics, seeds, the maps a sweep runs on (`maps`), and how
+//! much a sweep depends on the paper's readings (`sensitivity`).
 
 pub mod claims;
 pub mod experiment;
@@ -12,6 +13,7 @@ pub mod maps;
 pub mod radio;
 pub mod scale;
 pub mod seeds;
+pub mod sensitivity;
 pub mod stats;
 pub mod sweep;
 pub mod tally;

@@ -328,6 +328,49 @@ pub fn cells_table(cells: &[CellStats], oracle: &BTreeMap<usize, f64>) -> Table 
     }
 }
 
+/// The sweep's dependence on the paper's readings: a table of each
+/// alternative reading against the scenario's own on the same runs; `None`
+/// when the sweep has no algorithm with a switchable reading.
+pub fn sensitivity_section(rows: &[crate::sensitivity::Row]) -> Option<Section> {
+    if rows.is_empty() {
+        return None;
+    }
+    let f = |x: Option<f64>| x.map(|v| format!("{v:.1}")).unwrap_or_else(|| "-".into());
+    let table = Table {
+        header: ["algorithm", "alternative reading", "robots", "runs", "scenario's reading (s)", "alternative (s)", "ratio"]
+            .map(String::from)
+            .to_vec(),
+        rows: rows
+            .iter()
+            .map(|r| {
+                let ratio = r.alternative_s.zip(r.scenario_s).map(|(a, b)| format!("{:.2}", a / b));
+                vec![
+                    r.algorithm.paper_label().to_string(),
+                    r.reading.to_string(),
+                    r.robots.to_string(),
+                    r.runs.to_string(),
+                    f(r.scenario_s),
+                    f(r.alternative_s),
+                    ratio.unwrap_or_else(|| "-".into()),
+                ]
+            })
+            .collect(),
+    };
+    Some(Section::new(
+        "Sensitivity to the readings",
+        vec![
+            Block::Text(format!(
+                "Where the paper's text is ambiguous the scenario chooses a reading (docs/paper.md argues each \
+                 default). For each baseline of this sweep with a switchable reading: its first {} runs per robot \
+                 count (same seeds and starts; the first map) under the scenario's reading and under the \
+                 alternative, mean search time of the completed runs.",
+                crate::sensitivity::RUNS
+            )),
+            Block::Table(table),
+        ],
+    ))
+}
+
 /// What a Fig. 7 sweep ran and produced, for [`fig7`].
 pub struct Fig7Inputs<'a> {
     /// The sweep's `summary.json` (its setup is read from it).
