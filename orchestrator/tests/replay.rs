@@ -299,8 +299,10 @@ fn experiment_writes_a_report_and_is_quiet_in_a_pipe() {
     for needle in ["Claim (a)", "Claim (b)", "Claim (c)", "params.r_c", "lfp.beta", "seed_derivation"] {
         assert!(html.contains(needle), "{needle} missing");
     }
-    // 4 algorithms x 2 robot counts.
-    assert_eq!(html.matches("<tr><td>").count(), 8);
+    // 4 algorithms x 2 robot counts, then the sensitivity to the readings:
+    // RU's collisions and LFP's turn and repulsion range x 2 robot counts.
+    assert_eq!(html.matches("<tr><td>").count(), 8 + 3 * 2);
+    assert!(html.contains("Sensitivity to the readings"));
     assert!(!html.contains("<script"));
     assert!(!html.replace("http://www.w3.org/2000/svg", "").contains("http"), "only the SVG namespace is a URL");
     // Balanced sections: a cheap check that the page is well formed.
