@@ -121,6 +121,8 @@ fn a_small_scale_experiment() {
     let o = run(&["experiment", "scale", "--robots", "3,6", "--runs", "1", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert_eq!(text(&o.stderr), "", "quiet in a pipe");
+    // It names the folder asked for, not the staging folder it wrote first.
+    assert!(text(&o.stdout).contains(&format!("report.html in {}\n", out.display())), "{}", text(&o.stdout));
     let (h, rows) = csv_rows(&out.join("scale.csv"));
     assert_eq!(rows.len(), 2);
     for (r, n) in rows.iter().zip([3.0, 6.0]) {

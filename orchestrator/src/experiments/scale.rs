@@ -545,7 +545,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         opts.seed,
         text_table(&tab),
         runs.len(),
-        out.display()
+        opts.out.display()
     );
     Ok((rows, text))
 }
