@@ -1,6 +1,6 @@
 //! The Fig. 7 sweep as a benchmark: 4 algorithms (lfp, ru, sequential,
 //! repulsive), 1 to 13 robots, 500 runs each, `paper` scenario, on every
-//! core. Target: under 10 s wall. Prints each repetition and the median.
+//! core. Target: under 5 s wall (issue 8). Prints each repetition and the median.
 //!
 //! `cargo bench -p gridswarm-orchestrator --bench fig7` (REPS=N to change
 //! the number of repetitions, default 5).
@@ -42,7 +42,7 @@ fn main() {
         rates.push(rate);
     }
     let _ = std::fs::remove_dir_all(&out);
-    println!("median wall (sweep + output): {:.2} s (target < 10 s)", median(&mut walls));
+    println!("median wall (sweep + output): {:.2} s (target < 5 s)", median(&mut walls));
     println!("median rate: {:.2} M robot-rounds/s", median(&mut rates) / 1e6);
 }
 
