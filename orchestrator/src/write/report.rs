@@ -486,24 +486,47 @@ fn files(maps: bool) -> Vec<(String, String)> {
     f.into_iter().map(|(a, b)| (a.to_string(), b.to_string())).collect()
 }
 
-/// A table as aligned text for the terminal: the first column left-aligned,
-/// the others right-aligned.
+/// Widest line a terminal table may take: wider ones wrap on an 80-100
+/// column terminal and become unreadable.
+pub const TERMINAL_WIDTH: usize = 100;
+
+/// A table for the terminal, columns aligned (the first left, the others
+/// right). A table wider than [`TERMINAL_WIDTH`] is printed as several
+/// narrower ones, each repeating the first column, so no line wraps.
 pub fn text_table(t: &Table) -> String {
     let cols = t.header.len();
     let width: Vec<usize> = (0..cols)
         .map(|c| t.rows.iter().map(|r| r[c].chars().count()).chain([t.header[c].chars().count()]).max().unwrap_or(0))
         .collect();
+    // Column groups after the first, each fitting the width with it.
+    let mut groups: Vec<Vec<usize>> = vec![Vec::new()];
+    let mut used = width.first().copied().unwrap_or(0);
+    for c in 1..cols {
+        let last = groups.last_mut().expect("one group");
+        if !last.is_empty() && used + 2 + width[c] > TERMINAL_WIDTH {
+            groups.push(Vec::new());
+            used = width[0];
+        }
+        groups.last_mut().expect("one group").push(c);
+        used += 2 + width[c];
+    }
     let mut s = String::new();
-    for row in std::iter::once(&t.header).chain(&t.rows) {
-        let cells: Vec<String> = row
-            .iter()
-            .enumerate()
-            .map(|(c, x)| {
-                let pad = " ".repeat(width[c].saturating_sub(x.chars().count()));
-                if c == 0 { format!("{x}{pad}") } else { format!("{pad}{x}") }
-            })
-            .collect();
-        let _ = writeln!(s, "{}", cells.join("  ").trim_end());
+    for (g, group) in groups.iter().enumerate() {
+        if g > 0 {
+            s.push('\n');
+        }
+        for row in std::iter::once(&t.header).chain(&t.rows) {
+            let cells: Vec<String> = std::iter::once(0)
+                .chain(group.iter().copied())
+                .filter(|&c| c < cols)
+                .map(|c| {
+                    let x = &row[c];
+                    let pad = " ".repeat(width[c].saturating_sub(x.chars().count()));
+                    if c == 0 { format!("{x}{pad}") } else { format!("{pad}{x}") }
+                })
+                .collect();
+            let _ = writeln!(s, "{}", cells.join("  ").trim_end());
+        }
     }
     s
 }
@@ -513,6 +536,23 @@ mod tests {
     use super::*;
     use gridswarm::policy::Policy;
     use serde_json::json;
+
+    #[test]
+    fn wide_tables_split_to_fit_a_terminal() {
+        let header: Vec<String> = (0..12).map(|c| format!("column number {c}")).collect();
+        let t = Table { header: header.clone(), rows: vec![(0..12).map(|c| c.to_string()).collect()] };
+        let text = text_table(&t);
+        assert!(text.lines().all(|l| l.chars().count() <= TERMINAL_WIDTH), "{text}");
+        // Every column is still there, and each part starts with the first.
+        for h in &header {
+            assert!(text.contains(h.as_str()), "{h} missing: {text}");
+        }
+        let parts: Vec<&str> = text.split("\n\n").collect();
+        assert!(parts.len() > 1 && parts.iter().all(|p| p.starts_with("column number 0")), "{text}");
+        // A narrow table is one block.
+        let narrow = Table { header: vec!["a".into(), "b".into()], rows: vec![vec!["1".into(), "2".into()]] };
+        assert_eq!(text_table(&narrow), "a  b\n1  2\n");
+    }
 
     #[test]
     fn escapes_text_and_inlines_svg() {
