@@ -43,7 +43,7 @@ enum Command {
         /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// repulsive, sequential, ru, lfp, escape or frontier.
+        /// repulsive, sequential, ru, lfp, escape, frontier or oracle (a reference planner).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots [default: the scenario's].
@@ -82,7 +82,7 @@ enum Command {
         /// random:SEED[,options] (see `gridswarm check --help`).
         #[arg(long, default_value = "paper")]
         scenario: String,
-        /// Comma-separated algorithms.
+        /// Comma-separated algorithms (repulsive, sequential, ru, lfp, escape, frontier, oracle).
         #[arg(long, value_delimiter = ',', default_value = DEFAULT_ALGORITHMS, conflicts_with = "grids")]
         algorithms: Vec<Policy>,
         /// Robot counts: `1-13`, `5` or `1,3,5`.
