@@ -137,7 +137,22 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     let claims = claims::evaluate(&cells, &per_cell);
     let oracle = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
     // On the first map, the sweep's first runs under the other readings.
-    let readings = sensitivity::run(&maps[0].scenario, &algorithms, &opts.robots, &starts[0], opts.seed, opts.max_rounds);
+    let sweep = sensitivity::Sweep {
+        scenario: &maps[0].scenario,
+        world: &worlds[0],
+        robots: &opts.robots,
+        starts: &starts[0],
+        seed: opts.seed,
+        max_rounds: opts.max_rounds,
+    };
+    let first = plan.runs.min(sensitivity::RUNS);
+    let readings = sensitivity::run(&sweep, &algorithms, first, |p, r| {
+        let a = algorithms.iter().position(|&q| q == p)?;
+        // Map 0's runs of the cell come first in the sweep's records.
+        let cell = &records[(a * opts.robots.len() + r) * plan.runs..][..first];
+        let done: Vec<f64> = cell.iter().filter(|x| x.complete).map(|x| x.search_time_s).collect();
+        (!done.is_empty()).then(|| done.iter().sum::<f64>() / done.len() as f64)
+    });
     let map_rows = maps::rows(&maps);
     let spreads = maps::spreads(&per_map);
     let several = opts.maps.is_some();

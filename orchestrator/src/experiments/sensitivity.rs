@@ -10,14 +10,15 @@ use gridswarm::outcome::RunConfig;
 use gridswarm::params::{RuCollisions, Situation};
 use gridswarm::policy::Policy;
 use gridswarm::scenario::Scenario;
+use gridswarm::world::World;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::contract::Runner;
 use crate::seeds::run_seed;
 
-/// Runs per robot count and reading: enough to see a factor, cheap next to
-/// the sweep (its first runs, on its seeds and starts).
+/// Runs per robot count and alternative reading: enough to see a factor,
+/// cheap next to the sweep (its first runs, on its seeds and starts).
 pub const RUNS: usize = 20;
 
 /// One alternative reading at one robot count.
@@ -52,18 +53,29 @@ const ALTERNATIVES: [Alternative; 3] = [
     Alternative { algorithm: Policy::Lfp, reading: "repel_range = \"radio\"", apply: |s| s.lfp.repel_range = RepelRange::Radio },
 ];
 
-/// Every alternative reading of an algorithm in `algorithms`, at every
-/// robot count (`starts[r]` for `robots[r]`), on `scenario`. An alternative
-/// the scenario already uses is skipped.
+/// The sweep whose readings are varied: its first map's scenario and
+/// world, starts (`starts[r]` for `robots[r]`), seed and round limit.
+pub struct Sweep<'a> {
+    pub scenario: &'a Scenario,
+    pub world: &'a World,
+    pub robots: &'a [usize],
+    pub starts: &'a [Vec<VertexId>],
+    pub seed: u64,
+    pub max_rounds: u32,
+}
+
+/// Every alternative reading of an algorithm the sweep ran, at every robot
+/// count, on the sweep's first `runs` runs (at most [`RUNS`]).
+/// `scenario_mean(algorithm, r)` is the mean of those same runs under the
+/// scenario's own reading, which the sweep already ran: they are not run
+/// again. An alternative the scenario already uses is skipped.
 pub fn run(
-    scenario: &Scenario,
+    sweep: &Sweep,
     algorithms: &[Policy],
-    robots: &[usize],
-    starts: &[Vec<VertexId>],
-    seed: u64,
-    max_rounds: u32,
+    runs: usize,
+    scenario_mean: impl Fn(Policy, usize) -> Option<f64>,
 ) -> Vec<Row> {
-    let runs = RUNS;
+    let scenario = sweep.scenario;
     let mut rows = Vec::new();
     for alt in ALTERNATIVES.iter().filter(|a| algorithms.contains(&a.algorithm)) {
         let mut other = scenario.clone();
@@ -71,27 +83,25 @@ pub fn run(
         if other.params == scenario.params && other.lfp == scenario.lfp {
             continue;
         }
-        let (w0, w1) = (scenario.world(), other.world());
-        let (base, changed) = (Runner::new(&w0, scenario.lfp), Runner::new(&w1, other.lfp));
-        for (r, &n) in robots.iter().enumerate() {
-            let mean = |runner: &Runner| -> Option<f64> {
-                let times: Vec<f64> = (0..runs)
-                    .into_par_iter()
-                    .filter_map(|k| {
-                        let cfg = config(alt.algorithm, run_seed(seed, n, k as u64), scenario.situation, max_rounds);
-                        let res = runner.run(&starts[r], &cfg);
-                        res.complete.then_some(res.search_time_s)
-                    })
-                    .collect();
-                (!times.is_empty()).then(|| times.iter().sum::<f64>() / times.len() as f64)
-            };
+        // Only a change of `[params]` changes the world.
+        let own_world = (other.params != scenario.params).then(|| other.world());
+        let changed = Runner::new(own_world.as_ref().unwrap_or(sweep.world), other.lfp);
+        for (r, &n) in sweep.robots.iter().enumerate() {
+            let times: Vec<f64> = (0..runs)
+                .into_par_iter()
+                .filter_map(|k| {
+                    let cfg = config(alt.algorithm, run_seed(sweep.seed, n, k as u64), scenario.situation, sweep.max_rounds);
+                    let res = changed.run(&sweep.starts[r], &cfg);
+                    res.complete.then_some(res.search_time_s)
+                })
+                .collect();
             rows.push(Row {
                 algorithm: alt.algorithm,
                 reading: alt.reading,
                 robots: n,
                 runs,
-                scenario_s: mean(&base),
-                alternative_s: mean(&changed),
+                scenario_s: scenario_mean(alt.algorithm, r),
+                alternative_s: (!times.is_empty()).then(|| times.iter().sum::<f64>() / times.len() as f64),
             });
         }
     }

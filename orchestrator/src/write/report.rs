@@ -364,7 +364,7 @@ pub fn sensitivity_section(rows: &[crate::sensitivity::Row]) -> Option<Section> 
                  default). For each baseline of this sweep with a switchable reading: its first {} runs per robot \
                  count (same seeds and starts; the first map) under the scenario's reading and under the \
                  alternative, mean search time of the completed runs.",
-                crate::sensitivity::RUNS
+                rows[0].runs
             )),
             Block::Table(table),
         ],
