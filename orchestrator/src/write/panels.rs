@@ -186,16 +186,10 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
                     .map_err(|e| e.to_string())?;
             }
             if !panel.series.is_empty() {
-                chart
-                    .configure_series_labels()
-                    // A fixed range (a rate) has no headroom: its legend
-                    // goes low, where rates near 1 leave space.
-                    .position(if panel.y_range.is_some() { SeriesLabelPosition::LowerRight } else { SeriesLabelPosition::UpperLeft })
-                    .background_style(WHITE.mix(0.9))
-                    .border_style(BLACK)
-                    .label_font(("sans-serif", 13))
-                    .draw()
-                    .map_err(|e| e.to_string())?;
+                // A fixed range (a rate) has no headroom: its legend goes
+                // low, where rates near 1 leave space.
+                let pos = if panel.y_range.is_some() { SeriesLabelPosition::LowerRight } else { SeriesLabelPosition::UpperLeft };
+                crate::plot::legend(&mut chart, pos, 13)?;
             }
         }
         root.present().map_err(|e| e.to_string())?;

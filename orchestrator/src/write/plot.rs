@@ -24,6 +24,23 @@ pub(crate) fn colour(p: Policy) -> RGBColor {
 /// One plotted point: robots, mean search time, half-width of its 95% interval.
 type Mark = (f64, f64, f64);
 
+/// The legend of every figure: the series' labels in a white box with a
+/// black border at `pos`, in `size`-point type.
+pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    pos: SeriesLabelPosition,
+    size: u32,
+) -> Result<(), String> {
+    chart
+        .configure_series_labels()
+        .position(pos)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .label_font(("sans-serif", size))
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
 /// Draws the figure into an SVG string. `title` goes in the caption (the
 /// scenario and the number of runs, so a figure alone says what it shows).
 pub fn fig7_svg(cells: &[CellStats], algorithms: &[Policy], title: &str) -> Result<String, String> {
@@ -113,14 +130,7 @@ pub fn fig7_svg(cells: &[CellStats], algorithms: &[Policy], title: &str) -> Resu
                 }))
                 .map_err(|e| e.to_string())?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight, 15)?;
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(out)

@@ -183,14 +183,7 @@ pub fn svg(spreads: &[Spread]) -> Result<String, String> {
                 }))
                 .map_err(|e| e.to_string())?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        crate::plot::legend(&mut chart, SeriesLabelPosition::UpperRight, 15)?;
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(out)
