@@ -37,21 +37,21 @@ pub fn check_assumptions(scenario: &Scenario, world: &World, starts: &[VertexId]
 /// Runs searches on one world, reusing whatever the engine can precompute
 /// for it (the sweep runs thousands of searches on the same world).
 pub struct Runner<'w> {
-    world: &'w World,
+    prepared: gridswarm::engine::Prepared<'w>,
     lfp: LfpParams,
 }
 
 impl<'w> Runner<'w> {
     pub fn new(world: &'w World, lfp: LfpParams) -> Self {
-        Runner { world, lfp }
+        Runner { prepared: gridswarm::engine::Prepared::new(world), lfp }
     }
 
     pub fn world(&self) -> &World {
-        self.world
+        self.prepared.world()
     }
 
     pub fn run(&self, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
         // The scenario's LFP constants reach the engine here and only here.
-        gridswarm::engine::run_with_lfp(self.world, starts, cfg, &self.lfp)
+        self.prepared.run(starts, cfg, &self.lfp)
     }
 }

@@ -5,6 +5,7 @@
 //! other processes, so the two engines agree run for run.
 
 use std::rc::Rc;
+use std::sync::OnceLock;
 
 use crate::grid::VertexId;
 use crate::map::Map;
@@ -28,15 +29,41 @@ pub fn run(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
 
 /// [`run`] with LFP's constants given (they matter only to LFP).
 pub fn run_with_lfp(world: &World, starts: &[VertexId], cfg: &RunConfig, lfp: &LfpParams) -> RunResult {
-    match cfg.policy {
-        Policy::Lfp => {
-            let mut times = Vec::new();
-            let mut r = lfp::run_timed(world, starts, cfg, lfp, &mut times);
-            r.round_end_times_s = times;
-            r
+    Prepared::new(world).run(starts, cfg, lfp)
+}
+
+/// A world made ready for many runs: what an algorithm precomputes of it
+/// (LFP's obstacle index, the oracle's distance tables) is built on first
+/// use and kept, so a sweep of thousands of runs on one world builds it
+/// once. Shared across threads.
+pub struct Prepared<'w> {
+    world: &'w World,
+    lfp: OnceLock<lfp::LfpWorld<'w>>,
+    oracle: OnceLock<crate::oracle::OracleWorld<'w>>,
+}
+
+impl<'w> Prepared<'w> {
+    pub fn new(world: &'w World) -> Self {
+        Prepared { world, lfp: OnceLock::new(), oracle: OnceLock::new() }
+    }
+
+    pub fn world(&self) -> &'w World {
+        self.world
+    }
+
+    /// One search, as [`run_with_lfp`].
+    pub fn run(&self, starts: &[VertexId], cfg: &RunConfig, lfp: &LfpParams) -> RunResult {
+        match cfg.policy {
+            Policy::Lfp => {
+                let lw = self.lfp.get_or_init(|| lfp::LfpWorld::new(self.world));
+                lfp::run_prepared(lw, starts, cfg, lfp)
+            }
+            Policy::Oracle => {
+                let ow = self.oracle.get_or_init(|| crate::oracle::OracleWorld::new(self.world));
+                crate::oracle::run_prepared(ow, starts, cfg)
+            }
+            _ => run_grid(self.world, starts, cfg),
         }
-        Policy::Oracle => crate::oracle::run(world, starts, cfg),
-        _ => run_grid(world, starts, cfg),
     }
 }
 

@@ -244,18 +244,6 @@ pub fn run(world: &World, starts: &[VertexId], cfg: &RunConfig, lfp: &LfpParams)
     run_prepared(&LfpWorld::new(world), starts, cfg, lfp)
 }
 
-/// [`run`], also pushing onto `round_end_times` the simulated time at the
-/// end of every round (for replays, which show the clock round by round).
-pub fn run_timed(
-    world: &World,
-    starts: &[VertexId],
-    cfg: &RunConfig,
-    lfp: &LfpParams,
-    round_end_times: &mut Vec<f64>,
-) -> RunResult {
-    run_inner(&LfpWorld::new(world), starts, cfg, lfp, Some(round_end_times))
-}
-
 struct Robot {
     /// The flight's heading, which the field bends but does not change.
     heading: Vector,
@@ -327,16 +315,6 @@ impl Repulsion {
 
 /// [`run`] on a prepared world.
 pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &LfpParams) -> RunResult {
-    run_inner(lw, starts, cfg, lfp, None)
-}
-
-fn run_inner(
-    lw: &LfpWorld,
-    starts: &[VertexId],
-    cfg: &RunConfig,
-    lfp: &LfpParams,
-    mut round_end_times: Option<&mut Vec<f64>>,
-) -> RunResult {
     let world = lw.world;
     let prm = &world.params;
     let n = starts.len();
@@ -406,6 +384,8 @@ fn run_inner(
 
     let mut rounds = 0u32;
     let mut time = 0.0;
+    // The clock at the end of every round (replays show it round by round).
+    let mut round_end_times = Vec::new();
     let mut collisions = 0u32;
     let mut complete = done(&missing, uncovered);
     while !complete && n > 0 && rounds < cfg.max_rounds {
@@ -495,9 +475,7 @@ fn run_inner(
             + prm.t_trans
             + if rotated { prm.t_rot } else { 0.0 }
             + prm.collision_penalty(round_collisions);
-        if let Some(t) = round_end_times.as_deref_mut() {
-            t.push(time);
-        }
+        round_end_times.push(time);
         complete = done(&missing, uncovered);
     }
 
@@ -516,7 +494,7 @@ fn run_inner(
         complete,
         robot_rounds: rounds as u64 * n as u64,
         trajectories,
-        round_end_times_s: Vec::new(),
+        round_end_times_s: round_end_times,
         protocol: crate::sim::ProtocolStats {
             ended_by: if complete { "stop" } else { "max_rounds" }.to_string(),
             ..Default::default()

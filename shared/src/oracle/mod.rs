@@ -28,6 +28,8 @@ mod plan;
 #[cfg(test)]
 mod tests;
 
+use std::sync::{Arc, Mutex};
+
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -49,8 +51,52 @@ const STREAM: u64 = 0x0AC1E;
 
 /// Runs the oracle's search: robot `k` starts at `starts[k]`.
 pub fn run(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
+    run_prepared(&OracleWorld::new(world), starts, cfg)
+}
+
+/// Distance tables kept per world: a sweep's runs share their accessible
+/// part `Va`, and building its table (a breadth-first search from every
+/// vertex, |Va|^2 entries) costs more than planning on `large`.
+const TABLES_KEPT: usize = 4;
+
+/// What the oracle precomputes of a world: the distance table of each
+/// accessible part it was asked about (the last [`TABLES_KEPT`]). Build once
+/// per world, share across threads, and call [`run_prepared`].
+pub struct OracleWorld<'w> {
+    world: &'w World,
+    tables: Mutex<Vec<(Vec<bool>, Arc<plan::Dist>)>>,
+}
+
+impl<'w> OracleWorld<'w> {
+    pub fn new(world: &'w World) -> Self {
+        OracleWorld { world, tables: Mutex::new(Vec::new()) }
+    }
+
+    fn table(&self, va: &[bool]) -> Arc<plan::Dist> {
+        let kept = |t: &Vec<(Vec<bool>, Arc<plan::Dist>)>| t.iter().find(|(v, _)| v == va).map(|(_, d)| d.clone());
+        // A poisoned lock only means another run panicked; the tables are intact.
+        if let Some(d) = kept(&self.tables.lock().unwrap_or_else(|e| e.into_inner())) {
+            return d;
+        }
+        // Built outside the lock: two threads may build the same table once.
+        let d = Arc::new(plan::Dist::new(self.world, va));
+        let mut tables = self.tables.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(d) = kept(&tables) {
+            return d;
+        }
+        if tables.len() == TABLES_KEPT {
+            tables.remove(0);
+        }
+        tables.push((va.to_vec(), d.clone()));
+        d
+    }
+}
+
+/// [`run`] on a prepared world.
+pub fn run_prepared(ow: &OracleWorld, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
+    let world = ow.world;
     let va = world.reachable_from(starts);
-    let d = plan::Dist::new(world, &va);
+    let d = ow.table(&va);
     let compact: Vec<u32> = starts.iter().map(|&s| d.index[s as usize]).collect();
     let mut rng = ChaCha8Rng::seed_from_u64(rng::derive(cfg.seed, STREAM));
     let routes = plan::plan(&d, &compact, &mut rng);
