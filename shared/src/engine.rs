@@ -69,7 +69,7 @@ impl<'w> Prepared<'w> {
 
 fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
     let peers = (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
-    let mut local = Local { peers, out: Output::default(), maps: Vec::new() };
+    let mut local = Local { peers, out: Output::default(), maps: Vec::new(), frames: Vec::new() };
     Kernel::new(world, starts, cfg).run(&mut local)
 }
 
@@ -80,6 +80,9 @@ struct Local<'g> {
     /// Maps of `Map` frames every receiver has read, for the peers to copy
     /// their next maps into: a map a robot a slot, without allocating.
     maps: Vec<Map>,
+    /// Frames every receiver has read, their allocations reused for the
+    /// next frames sent (about three a robot a slot).
+    frames: Vec<Rc<Frame>>,
 }
 
 impl Robots for Local<'_> {
@@ -98,7 +101,16 @@ impl Robots for Local<'_> {
             peer.wake(call.now, call.tick.as_ref(), frames, &mut self.out);
             let (o, into) = (&mut self.out, slot.get_or_insert_with(Output::default));
             into.send.clear();
-            into.send.extend(o.send.drain(..).map(|t| Transmit { payload: Rc::new(t.payload), ready: t.ready, copies: t.copies }));
+            for t in o.send.drain(..) {
+                let payload = match self.frames.pop() {
+                    Some(mut rc) => {
+                        *Rc::get_mut(&mut rc).expect("kept frames are read by all") = t.payload;
+                        rc
+                    }
+                    None => Rc::new(t.payload),
+                };
+                into.send.push(Transmit { payload, ready: t.ready, copies: t.copies });
+            }
             into.notes.clear();
             into.notes.append(&mut o.notes);
             (into.motor, into.alarm, into.listen) = (o.motor, o.alarm, o.listen);
@@ -106,12 +118,18 @@ impl Robots for Local<'_> {
     }
 
     fn reclaim(&mut self, frames: &mut Vec<Delivery<Rc<Frame>>>) {
+        let keep = 4 * self.peers.len();
         for d in frames.drain(..) {
-            // The last reader of a map frame gives its map back.
-            if let Ok(Frame::Map { map, .. }) = Rc::try_unwrap(d.payload) {
+            // The last reader of a frame gives it back, and a map frame its map.
+            let mut rc = d.payload;
+            let Some(frame) = Rc::get_mut(&mut rc) else { continue };
+            if let Frame::Map { map, .. } = frame {
                 if self.maps.len() < self.peers.len() {
-                    self.maps.push(map);
+                    self.maps.push(std::mem::take(map));
                 }
+            }
+            if self.frames.len() < keep {
+                self.frames.push(rc);
             }
         }
     }

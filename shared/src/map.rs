@@ -23,7 +23,7 @@ pub struct Failure {
     pub round: u32,
 }
 
-#[derive(Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Map {
     /// Vertices some robot has stood on.
     pub visited: Bitset,

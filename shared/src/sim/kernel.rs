@@ -137,6 +137,9 @@ pub struct Kernel<'w, P> {
     trajectories: Vec<Vec<Pose>>,
     /// `(failure record, robot, round)`: robots that timed out waiting on a failed robot.
     waiters: Vec<(usize, RobotId, u32)>,
+    /// Frames of the last wake-ups that reach nobody, handed back to the
+    /// engine as read ones are ([`Robots::reclaim`]).
+    unheard: Vec<Delivery<P>>,
     /// `GRIDSWARM_TRACE` set: every wake-up, motor command, fault and slot on stderr.
     trace: bool,
 }
@@ -194,6 +197,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             round_end_times: Vec::new(),
             trajectories: if cfg.record_trajectories { vec![Vec::new(); n] } else { Vec::new() },
             waiters: Vec::new(),
+            unheard: Vec::new(),
             trace: std::env::var_os("GRIDSWARM_TRACE").is_some(),
         };
         k.record_poses();
@@ -246,6 +250,10 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 self.recycle(&mut calls, robots);
                 for (k, &id) in ids.iter().enumerate() {
                     self.apply(id, outs.get_mut(k).and_then(Option::as_mut));
+                }
+                if !self.unheard.is_empty() {
+                    robots.reclaim(&mut self.unheard);
+                    self.unheard.clear();
                 }
             }
             self.check_close();
@@ -519,10 +527,14 @@ impl<'w, P: Clone> Kernel<'w, P> {
             // Every receiver hears it one hop later: one event for all.
             let medium = &self.medium;
             let to = self.links[r].get_or_insert_with(|| Rc::from(medium.links(r))).clone();
-            if !to.is_empty() {
-                let at = ready + self.hop;
+            let at = ready + self.hop;
+            let d = Delivery { from, at, payload };
+            if to.is_empty() {
+                // A lone robot's map every slot: its buffers go back too.
+                self.unheard.push(d);
+            } else {
                 self.stats.deliveries += to.len() as u64;
-                self.push(at, Ev::Broadcast { to, d: Delivery { from, at, payload } });
+                self.push(at, Ev::Broadcast { to, d });
             }
             return;
         }
