@@ -91,7 +91,7 @@ enum Command {
         /// Runs per (algorithm, robot count).
         #[arg(long, default_value_t = DEFAULT_RUNS, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "grids")]
         runs: u32,
-        /// Base seed; each run's seed derives from it, the algorithm, the robot count and the run index.
+        /// Base seed; each run's seed derives from it, the robot count and the run index (the same for every algorithm: common random numbers).
         #[arg(long, default_value_t = 1, conflicts_with = "grids")]
         seed: u64,
         /// 1: the number of targets is known; 2: it is not [default: the scenario's].
