@@ -71,7 +71,16 @@
     for (var k = 0; k <= R; k++) c[k + 1] = c[k] + (map[k] ? map[k].length : 0);
     return c;
   }
-  var cumCollisions = cumulative(collisionsAt), cumRefused = cumulative(refusedAt);
+  var cumRefused = cumulative(refusedAt);
+  // The engine's count of every round when rounds.csv has it: it includes
+  // collisions the poses cannot show (robots that back off end where they
+  // started); the marks are those the poses show.
+  var counts = D.collision_counts;
+  function collisionsIn(k) {
+    return counts ? counts[k] || 0 : collisionsAt[k] ? collisionsAt[k].length : 0;
+  }
+  var cumCollisions = new Int32Array(R + 2);
+  for (var ck = 0; ck <= R; ck++) cumCollisions[ck + 1] = cumCollisions[ck] + collisionsIn(ck);
 
   // Same colours as routes.svg (routes.rs robot_colour).
   var TAB10 = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
@@ -466,7 +475,7 @@
     // Readout.
     var t0 = series.time_s[k], t1 = series.time_s[Math.min(R, k + 1)];
     var time = t0 + (t1 - t0) * f;
-    var collisionsSoFar = cumCollisions[k] + (f > 0 && collisionsAt[k] ? collisionsAt[k].length : 0);
+    var collisionsSoFar = cumCollisions[k] + (f > 0 ? collisionsIn(k) : 0);
     var refusedSoFar = cumRefused[k] + (f > 0 && refusedAt[k] ? refusedAt[k].length : 0);
     var det = series.detected[k];
     setText("r-round", k + " / " + R);

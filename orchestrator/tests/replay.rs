@@ -132,6 +132,15 @@ fn series_agree_with_the_engine() {
             assert!(result.collisions > 0, "this seed of RU should collide");
         }
         assert!(s.collisions.iter().all(|&(k, i, j)| k < rounds && i < j && j < 6));
+        // rounds.csv carries the engine's count of every round, which the
+        // page counts: back-off collisions included.
+        let counts = rec.round_collisions.clone().expect("rounds.csv has the collisions column");
+        assert_eq!(counts.len(), rounds);
+        assert_eq!(counts.iter().sum::<u32>(), result.collisions, "{policy:?}");
+        assert_eq!(replay::data(&rec)["collision_counts"], json!(counts));
+        if policy == Policy::Ru {
+            assert!(s.collisions.len() < result.collisions as usize, "this seed should back off unseen: {} marks", s.collisions.len());
+        }
     }
 }
 

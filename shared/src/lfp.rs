@@ -386,6 +386,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
     let mut time = 0.0;
     // The clock at the end of every round (replays show it round by round).
     let mut round_end_times = Vec::new();
+    let mut per_round_collisions = Vec::new();
     let mut collisions = 0u32;
     let mut complete = done(&missing, uncovered);
     while !complete && n > 0 && rounds < cfg.max_rounds {
@@ -476,6 +477,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
             + if rotated { prm.t_rot } else { 0.0 }
             + prm.collision_penalty(round_collisions);
         round_end_times.push(time);
+        per_round_collisions.push(round_collisions);
         complete = done(&missing, uncovered);
     }
 
@@ -495,6 +497,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
         robot_rounds: rounds as u64 * n as u64,
         trajectories,
         round_end_times_s: round_end_times,
+        round_collisions: per_round_collisions,
         protocol: crate::sim::ProtocolStats {
             ended_by: if complete { "stop" } else { "max_rounds" }.to_string(),
             ..Default::default()

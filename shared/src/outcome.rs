@@ -89,6 +89,11 @@ pub struct RunResult {
     /// Simulated time at the end of every round (element `k` ends round `k`).
     #[serde(skip)]
     pub round_end_times_s: Vec<f64>,
+    /// Collisions the referee counted in every round (element `k`: round
+    /// `k`), also those that leave no trace in the trajectories (robots
+    /// that back off end where they started).
+    #[serde(default)]
+    pub round_collisions: Vec<u32>,
     /// The protocol's and the radio's counts (grid policies).
     #[serde(default)]
     pub protocol: ProtocolStats,

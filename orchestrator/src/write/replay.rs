@@ -14,8 +14,11 @@
 //! - `world.json` ([`WorldFile`]), `trajectories.jsonl` (one line per robot
 //!   per round, as [`crate::output::write_trajectories`] writes it; a robot's
 //!   record may end early, but may not skip a round) and `summary.json`.
-//! - `rounds.csv` if present (`round,end_time_s`); else the clock is
-//!   `search_time_s` spread evenly over the rounds, and the page says `~`.
+//! - `rounds.csv` if present (`round,end_time_s[,collisions]`); else the
+//!   clock is `search_time_s` spread evenly over the rounds, and the page
+//!   says `~`. With the `collisions` column the page counts the engine's
+//!   collisions, also those the poses cannot show (robots that back off
+//!   end where they started); its marks are those the poses show.
 //! - From `summary.json`, besides the run's numbers, two optional fields the
 //!   distributed engine writes:
 //!   - `failures_detected`: `[{"robot": r, "round": k, ...}, ...]`, robot ids
@@ -89,6 +92,8 @@ pub struct Recorded {
     pub poses: Vec<Vec<RecPose>>,
     pub summary: Value,
     pub round_end_times_s: Option<Vec<f64>>,
+    /// The referee's collisions of every round, when `rounds.csv` has them.
+    pub round_collisions: Option<Vec<u32>>,
     pub failures: Vec<Failure>,
     pub refused: Vec<Refusal>,
     /// The total of refused moves when `summary.json` gives only a count.
@@ -156,11 +161,22 @@ impl Recorded {
             return Err(bad(format!("refused_moves: robot {} but the trajectories have {n} robots", f.robot)));
         }
 
-        let mut rec =
-            Recorded { world_file, world, poses, summary, round_end_times_s: None, failures, refused, refused_total };
+        let mut rec = Recorded {
+            world_file,
+            world,
+            poses,
+            summary,
+            round_end_times_s: None,
+            round_collisions: None,
+            failures,
+            refused,
+            refused_total,
+        };
         let rpath = dir.join(rundir::ROUNDS);
         if rpath.exists() {
-            rec.round_end_times_s = Some(read_rounds(&rpath, rec.rounds())?);
+            let (times, collisions) = read_rounds(&rpath, rec.rounds())?;
+            rec.round_end_times_s = Some(times);
+            rec.round_collisions = collisions;
         }
         Ok(rec)
     }
@@ -224,27 +240,38 @@ fn read_trajectories(path: &Path, text: &str, world: &World) -> Result<Vec<Vec<R
     Ok(poses)
 }
 
-fn read_rounds(path: &Path, rounds: usize) -> Result<Vec<f64>> {
+/// `rounds.csv`: each round's end time, and its collisions when the file
+/// has that column (files of older versions do not).
+fn read_rounds(path: &Path, rounds: usize) -> Result<(Vec<f64>, Option<Vec<u32>>)> {
     let text = rundir::read_text(path)?;
     let mut lines = text.lines();
     let bad = |message: String| Error::Read { path: path.to_path_buf(), message };
-    if lines.next().map(str::trim) != Some("round,end_time_s") {
-        return Err(bad("expected the header `round,end_time_s`".into()));
-    }
-    let mut times = Vec::with_capacity(rounds);
+    let counted = match lines.next().map(str::trim) {
+        Some("round,end_time_s") => false,
+        Some("round,end_time_s,collisions") => true,
+        _ => return Err(bad("expected the header `round,end_time_s` or `round,end_time_s,collisions`".into())),
+    };
+    let (mut times, mut collisions) = (Vec::with_capacity(rounds), Vec::new());
     for (n, line) in lines.enumerate() {
-        let parsed = line
-            .split_once(',')
-            .and_then(|(k, t)| Some((k.trim().parse::<usize>().ok()?, t.trim().parse::<f64>().ok()?)));
-        match parsed {
-            Some((k, t)) if k == n && t.is_finite() => times.push(t),
-            _ => return Err(bad(format!("line {}: expected `{n},<seconds>`, got `{line}`", n + 2))),
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        let k = cells.first().and_then(|k| k.parse::<usize>().ok());
+        let t = cells.get(1).and_then(|t| t.parse::<f64>().ok()).filter(|t| t.is_finite());
+        let c = if counted { cells.get(2).and_then(|c| c.parse::<u32>().ok()) } else { Some(0) };
+        match (k, t, c) {
+            (Some(k), Some(t), Some(c)) if k == n && cells.len() == 2 + counted as usize => {
+                times.push(t);
+                collisions.push(c);
+            }
+            _ => {
+                let want = if counted { format!("`{n},<seconds>,<collisions>`") } else { format!("`{n},<seconds>`") };
+                return Err(bad(format!("line {}: expected {want}, got `{line}`", n + 2)));
+            }
         }
     }
     if times.len() != rounds {
         return Err(bad(format!("{} rounds, but the trajectories have {rounds}", times.len())));
     }
-    Ok(times)
+    Ok((times, counted.then_some(collisions)))
 }
 
 /// Standard base64 with padding; the page decodes it with `atob`.
@@ -496,6 +523,7 @@ pub fn data(rec: &Recorded) -> Value {
         },
         "target_found_at": s.target_found_at,
         "collisions": s.collisions.iter().flat_map(|&(k, i, j)| [k, i, j]).collect::<Vec<_>>(),
+        "collision_counts": rec.round_collisions,
         "failures": rec.failures.iter().flat_map(|f| [f.robot as u64, f.round as u64]).collect::<Vec<_>>(),
         "refused": rec.refused.iter().flat_map(|f| [f.robot as u64, f.round as u64]).collect::<Vec<_>>(),
         "refused_total": rec.refused_total,

@@ -231,11 +231,14 @@ impl RunRecord<'_> {
     }
 }
 
-/// `rounds.csv`: `round,end_time_s`, one line per round played.
-pub fn rounds_csv(round_end_times_s: &[f64]) -> String {
-    let mut s = String::from("round,end_time_s\n");
+/// `rounds.csv`: `round,end_time_s,collisions`, one line per round played
+/// (without the last column when the engine did not count per round).
+pub fn rounds_csv(round_end_times_s: &[f64], round_collisions: &[u32]) -> String {
+    let counted = round_collisions.len() == round_end_times_s.len();
+    let mut s = String::from(if counted { "round,end_time_s,collisions\n" } else { "round,end_time_s\n" });
     for (k, t) in round_end_times_s.iter().enumerate() {
-        let _ = writeln!(s, "{k},{}", output::fixed(*t));
+        let _ = write!(s, "{k},{}", output::fixed(*t));
+        let _ = if counted { writeln!(s, ",{}", round_collisions[k]) } else { writeln!(s) };
     }
     s
 }
@@ -273,7 +276,7 @@ pub fn write_run_dir(dir: &Path, run: &RunRecord) -> Result<Vec<PathBuf>> {
         // A stale one from an earlier run in the same directory would lie.
         let _ = fs::remove_file(&rounds_path);
     } else {
-        output::write_text(&rounds_path, &rounds_csv(times))?;
+        output::write_text(&rounds_path, &rounds_csv(times, &run.result.round_collisions))?;
         written.push(rounds_path);
     }
     written.push(replay::write(dir)?);
@@ -322,6 +325,7 @@ mod tests {
 
     #[test]
     fn rounds_csv_lines() {
-        assert_eq!(rounds_csv(&[5.85, 11.7]), "round,end_time_s\n0,5.850000\n1,11.700000\n");
+        assert_eq!(rounds_csv(&[5.85, 11.7], &[0, 2]), "round,end_time_s,collisions\n0,5.850000,0\n1,11.700000,2\n");
+        assert_eq!(rounds_csv(&[5.85, 11.7], &[]), "round,end_time_s\n0,5.850000\n1,11.700000\n");
     }
 }

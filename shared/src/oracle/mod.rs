@@ -118,6 +118,7 @@ struct Search<'a> {
     moves: u64,
     robot_rounds: u64,
     round_end_times: Vec<f64>,
+    round_collisions: Vec<u32>,
     trajectories: Vec<Vec<Pose>>,
 }
 
@@ -143,6 +144,7 @@ impl<'a> Search<'a> {
             moves: 0,
             robot_rounds: 0,
             round_end_times: Vec::new(),
+            round_collisions: Vec::new(),
             trajectories: if cfg.record_trajectories { vec![Vec::new(); starts.len()] } else { Vec::new() },
         };
         s.sense();
@@ -188,6 +190,7 @@ impl<'a> Search<'a> {
             }
             self.rounds += 1;
             self.round_end_times.push(self.time);
+            self.round_collisions.push(round.forced);
             self.sense();
         }
         self.finish(n)
@@ -222,6 +225,7 @@ impl<'a> Search<'a> {
             robot_rounds: self.robot_rounds,
             trajectories: self.trajectories,
             round_end_times_s: self.round_end_times,
+            round_collisions: self.round_collisions,
             protocol: ProtocolStats { ended_by: ended.to_string(), moves: self.moves, ..Default::default() },
         }
     }

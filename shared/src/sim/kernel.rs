@@ -134,6 +134,7 @@ pub struct Kernel<'w, P> {
     collisions: u32,
     robot_rounds: u64,
     round_end_times: Vec<f64>,
+    round_collisions: Vec<u32>,
     trajectories: Vec<Vec<Pose>>,
     /// `(failure record, robot, round)`: robots that timed out waiting on a failed robot.
     waiters: Vec<(usize, RobotId, u32)>,
@@ -195,6 +196,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             collisions: 0,
             robot_rounds: 0,
             round_end_times: Vec::new(),
+            round_collisions: Vec::new(),
             trajectories: if cfg.record_trajectories { vec![Vec::new(); n] } else { Vec::new() },
             waiters: Vec::new(),
             unheard: Vec::new(),
@@ -667,6 +669,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             );
         }
         self.round_end_times.push(seconds(end));
+        self.round_collisions.push(report.collisions);
         let mut searching = 0;
         let round = self.round;
         for b in self.bots.iter_mut() {
@@ -755,6 +758,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             robot_rounds: self.robot_rounds,
             trajectories: self.trajectories,
             round_end_times_s: self.round_end_times,
+            round_collisions: self.round_collisions,
             protocol: self.stats,
         }
     }
