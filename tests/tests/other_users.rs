@@ -66,6 +66,8 @@ impl Drop for Reaped {
 struct Attack {
     /// Files of the run it found.
     seen: usize,
+    /// Reads of them that succeeded.
+    read: usize,
     /// Opens for writing, writes and truncations that succeeded.
     succeeded: usize,
     /// Whether it found the node counter file (the one iceoryx2 makes 0666).
@@ -87,6 +89,11 @@ fn files_of(dir: &Path, head: &str, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// Whether `f` could be read.
+fn peek(f: &Path) -> bool {
+    fs::File::open(f).is_ok_and(|mut file| file.read(&mut [0u8; 64]).is_ok())
+}
+
 /// Overwrites the start of `f` with garbage, then truncates it; never
 /// creates a file. Counts what succeeded.
 fn attack(f: &Path) -> usize {
@@ -96,7 +103,7 @@ fn attack(f: &Path) -> usize {
 }
 
 /// The hostile writer (this test executable, run again as the other user):
-/// until its stdin closes, it attacks every file whose name starts with
+/// until its stdin closes, it reads and attacks every file whose name starts with
 /// the prefix of the runs of `pid`, in /dev/shm and the temporary folder,
 /// then prints what it did.
 fn hostile_writer(pid: &str) {
@@ -108,24 +115,25 @@ fn hostile_writer(pid: &str) {
     });
     let shm_head = format!("gs{pid}x");
     let tmp_head = format!("gridswarm-gs{pid}x");
-    let (mut seen, mut succeeded, mut saw_counter) = (std::collections::BTreeSet::new(), 0, false);
+    let (mut seen, mut read, mut succeeded, mut saw_counter) = (std::collections::BTreeSet::new(), 0, 0, false);
     while !stop.load(std::sync::atomic::Ordering::Relaxed) {
         let mut files = Vec::new();
         files_of(Path::new("/dev/shm"), &shm_head, &mut files);
         files_of(&std::env::temp_dir(), &tmp_head, &mut files);
         for f in files {
             saw_counter |= f.to_string_lossy().ends_with(".global_mgmt");
+            read += usize::from(peek(&f));
             succeeded += attack(&f);
             seen.insert(f);
         }
     }
-    println!("seen {} succeeded {succeeded} counter {saw_counter}", seen.len());
+    println!("seen {} read {read} succeeded {succeeded} counter {saw_counter}", seen.len());
 }
 
 fn parse_attack(out: &str) -> Attack {
     let w: Vec<&str> = out.split_whitespace().collect();
-    assert!(w.len() == 6 && w[0] == "seen", "the hostile writer's report: {out:?}");
-    Attack { seen: w[1].parse().unwrap(), succeeded: w[3].parse().unwrap(), saw_counter: w[5] == "true" }
+    assert!(w.len() == 8 && w[0] == "seen", "the hostile writer's report: {out:?}");
+    Attack { seen: w[1].parse().unwrap(), read: w[3].parse().unwrap(), succeeded: w[5].parse().unwrap(), saw_counter: w[7] == "true" }
 }
 
 #[test]
@@ -179,6 +187,7 @@ fn a_hostile_user_cannot_disturb_a_live_run() {
     assert!(out.status.success(), "the run failed after {took:?} under attack ({attack:?}): {}", text(&out.stderr));
     assert!(attack.seen > 0 && attack.saw_counter, "the writer never saw the run's node counter: {attack:?}");
     assert_eq!(attack.succeeded, 0, "another user wrote to a file of the run: {attack:?}");
+    assert_eq!(attack.read, 0, "another user read a file of the run: {attack:?}");
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!((v["complete"].as_bool(), v["collisions"].as_u64()), (Some(true), Some(0)), "{v}");
     assert_no_leftovers(v["ipc_prefix"].as_str().unwrap());
