@@ -106,9 +106,18 @@ pub fn prepare_root(root: &Path) -> Result<(), String> {
     match DirBuilder::new().mode(0o700).create(root) {
         Ok(()) => {}
         Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {}
-        Err(e) => return Err(format!("cannot create iceoryx2's root folder {}: {e}", root.display())),
+        Err(e) => return Err(format!("cannot create iceoryx2's root folder {}: {e}{}", root.display(), parent_owner(root))),
     }
     check_root(root)
+}
+
+/// `; <parent> belongs to <owner>, mode <mode>`, to say why a folder could not be made there.
+fn parent_owner(path: &Path) -> String {
+    let Some(parent) = path.parent() else { return String::new() };
+    match fs::metadata(parent) {
+        Ok(m) => format!("; {} belongs to {}, mode {:o}", parent.display(), describe_uid(m.uid()), m.mode() & 0o7777),
+        Err(_) => String::new(),
+    }
 }
 
 /// A folder above the root: another user who owns it, or anyone if all may
@@ -240,6 +249,8 @@ mod tests {
         fs::set_permissions(&open, fs::Permissions::from_mode(0o777)).unwrap();
         let err = prepare_root(&open.join("root")).unwrap_err();
         assert!(err.contains(&format!("{} above", open.display())) && err.contains("not sticky"), "{err}");
+        let err = prepare_root(&dir.join("missing").join("root")).unwrap_err();
+        assert!(err.contains("cannot inspect") && err.contains("missing"), "{err}");
         let long = dir.join("x".repeat(MAX_ROOT_BYTES));
         assert!(prepare_root(&long).unwrap_err().contains("bytes long"));
         fs::remove_dir_all(&dir).unwrap();
