@@ -42,8 +42,9 @@ fn as_other_user(program: &Path) -> Command {
     c
 }
 
-/// Kills and reaps a child when dropped, so that a failing test leaves no
-/// hostile writer or run behind.
+/// Ends and reaps a child when dropped, so that a failing test leaves no
+/// hostile writer or run behind: SIGTERM first, on which a run removes
+/// its files, then SIGKILL.
 struct Reaped(Option<Child>);
 
 impl Reaped {
@@ -55,7 +56,10 @@ impl Reaped {
 impl Drop for Reaped {
     fn drop(&mut self) {
         if let Some(mut c) = self.0.take() {
-            let _ = c.kill();
+            signal(c.id(), libc::SIGTERM);
+            if !wait_until(Duration::from_secs(5), || c.try_wait().is_ok_and(|s| s.is_some())) {
+                let _ = c.kill();
+            }
             let _ = c.wait();
         }
     }
@@ -260,7 +264,7 @@ fn a_root_folder_another_user_owns_is_refused_naming_folder_and_owner() {
     // The run's own root folder, made in advance by the other user.
     let prefix = format!("gs{}x{:06x}_", std::process::id(), 0xf0e);
     let root = gridswarm::ipc::run_root(&prefix);
-    let _gone = Removed(root.clone());
+    let _gone = RunGone(prefix.clone());
     fs::create_dir(&root).unwrap();
     chown(&root, OTHER_UID);
     let config = gridswarm::ipc::config(&prefix).unwrap();
@@ -287,11 +291,14 @@ fn chown(path: &Path, uid: u32) {
     assert_eq!(unsafe { libc::chown(c.as_ptr(), uid, uid) }, 0, "chown {}", path.display());
 }
 
-/// A folder removed when dropped, also when the test fails.
-struct Removed(PathBuf);
+/// Every file of the run with this prefix, its root folder included,
+/// removed when dropped, also when the test fails.
+struct RunGone(String);
 
-impl Drop for Removed {
+impl Drop for RunGone {
     fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
+        let root = gridswarm::ipc::run_root(&self.0);
+        let _ = gridswarm::ipc::cleanup_run(&self.0, &root);
+        let _ = fs::remove_dir_all(&root);
     }
 }
