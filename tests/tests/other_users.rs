@@ -34,6 +34,28 @@ fn can_switch_user(test: &str) -> bool {
     is_root()
 }
 
+/// Whether the other user may run `program`: it and every folder above it
+/// are open to others (a checkout under `/root` is not).
+fn other_can_run(program: &Path) -> bool {
+    let open = |p: &Path, bits: u32| fs::metadata(p).is_ok_and(|m| m.mode() & bits == bits);
+    open(program, 0o005) && program.ancestors().skip(1).filter(|a| !a.as_os_str().is_empty()).all(|a| open(a, 0o001))
+}
+
+/// `programs`, where the other user can run them: in place if it can,
+/// else copied into `dir` (which must be open to others), side by side.
+fn runnable_by_other(programs: &[PathBuf], dir: &Path) -> Vec<PathBuf> {
+    if programs.iter().all(|p| other_can_run(p)) {
+        return programs.to_vec();
+    }
+    fs::set_permissions(dir, fs::Permissions::from_mode(0o755)).unwrap();
+    let copies: Vec<PathBuf> = programs.iter().map(|p| dir.join(p.file_name().unwrap())).collect();
+    for (p, c) in programs.iter().zip(&copies) {
+        fs::copy(p, c).unwrap();
+        fs::set_permissions(c, fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    copies
+}
+
 /// `PROGRAM ARGS` run as the other user, with no supplementary groups.
 fn as_other_user(program: &Path) -> Command {
     let mut c = Command::new("setpriv");
@@ -167,7 +189,7 @@ fn a_hostile_user_cannot_disturb_a_live_run() {
     ));
     let run_pid = run.0.as_ref().unwrap().id();
     let mut writer = Reaped(Some(
-        as_other_user(&std::env::current_exe().unwrap())
+        as_other_user(&runnable_by_other(&[std::env::current_exe().unwrap()], &dir)[0])
             .args(["--exact", "a_hostile_user_cannot_disturb_a_live_run", "--nocapture", "--test-threads=1"])
             .env(HOSTILE, run_pid.to_string())
             .stdin(Stdio::piped())
@@ -235,11 +257,13 @@ fn a_second_user_runs_while_iceoryx2_s_shared_root_is_another_s() {
         return;
     }
     let _s = serial();
+    let dir = scratch("second-user");
+    let bins = runnable_by_other(&["gridswarm", "world-server", "robot-agent"].map(|b| bin_dir().join(b)), &dir);
     let shared = SharedIox2Root::ensure();
     let owner = fs::metadata(SharedIox2Root::PATH).unwrap();
     assert!(owner.uid() != OTHER_UID && owner.mode() & 0o007 == 0, "/tmp/iceoryx2 is closed to the other user");
     let mut run = Reaped(Some(
-        as_other_user(&bin_dir().join("gridswarm"))
+        as_other_user(&bins[0])
             .args(["run", "--json", "--robots", "3", "--seed", "1"])
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
