@@ -292,7 +292,7 @@ fn a_root_folder_another_user_owns_is_refused_naming_folder_and_owner() {
     fs::create_dir(&root).unwrap();
     chown(&root, OTHER_UID);
     let config = gridswarm::ipc::config(&prefix).unwrap();
-    let err = gridswarm::ipc::create_node(&config, "world").err().expect("a foreign root is refused");
+    let err = gridswarm::ipc::create_node(&config, "world").expect_err("a foreign root is refused");
     assert!(err.contains(&root.display().to_string()) && err.contains(&format!("uid {OTHER_UID}")), "{err}");
     assert!(gridswarm::ipc::run_files(&prefix, &root).is_empty(), "nothing was made in it");
 
