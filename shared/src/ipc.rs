@@ -6,8 +6,11 @@
 //!   `config/iceoryx2.toml`, `~/.config/iceoryx2/` and `/etc/iceoryx2/`);
 //! - the service and node names, and the limits every service is created with;
 //! - liveness of a node or a process;
+//! - the run's own iceoryx2 root folder and node counter file, out of other
+//!   users' reach ([`private`]);
 //! - [`cleanup_run`], which removes every file of a run from `/dev/shm` and
-//!   iceoryx2's root directory, and [`sweep_stale`] for runs whose owner died;
+//!   iceoryx2's root directory, and [`sweep_stale`] for runs whose owner died
+//!   ([`files`]);
 //! - the run report the world-server writes for the orchestrator.
 //!
 //! Topology (one run, `N` robots; the world creates every service):
@@ -25,8 +28,7 @@
 //! to the robots in range at their simulated arrival times.
 
 use std::fs;
-use std::io;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use iceoryx2::config::Config;
@@ -35,6 +37,12 @@ use iceoryx2::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::outcome::{RunConfig, RunResult};
+
+pub mod files;
+pub mod private;
+
+pub use files::{cleanup_run, run_files, run_prefixes, sweep_stale};
+pub use private::{describe_uid, run_root};
 
 /// Every prefix of a run starts with this, followed by the owner's pid.
 pub const PREFIX_HEAD: &str = "gs";
@@ -91,6 +99,11 @@ pub fn config(prefix: &str) -> Result<Config, String> {
     let mut c = Config::default();
     c.global.prefix =
         FileName::new(prefix.as_bytes()).map_err(|e| format!("bad prefix `{prefix}`: {e:?}"))?;
+    // Its own root, not the `/tmp/iceoryx2/` every user shares (see [`private`]).
+    let root = run_root(prefix);
+    let root_path = iceoryx2::prelude::Path::new(root.as_os_str().as_encoded_bytes())
+        .map_err(|e| format!("iceoryx2 cannot use {} as its root folder: {e:?}", root.display()))?;
+    c.global.set_root_path(&root_path);
     // Big memory win (notes: ~470 KB -> ~28 KB of heap per subscriber).
     c.defaults
         .publish_subscribe
@@ -104,7 +117,7 @@ pub fn config(prefix: &str) -> Result<Config, String> {
     Ok(c)
 }
 
-/// iceoryx2's root directory for `config` (`/tmp/iceoryx2/` by default).
+/// iceoryx2's root directory for `config` (the run's [`run_root`]).
 pub fn root_dir(config: &Config) -> PathBuf {
     PathBuf::from(config.global.root_path().to_string())
 }
@@ -162,15 +175,30 @@ pub type BytesSubscriber = iceoryx2::port::subscriber::Subscriber<Svc, [u8], ()>
 pub type Notifier = iceoryx2::port::notifier::Notifier<Svc>;
 pub type Listener = iceoryx2::port::listener::Listener<Svc>;
 
-/// A node of the run named `name`. Signal handling is left to the process
-/// (iceoryx2 would otherwise catch SIGINT/SIGTERM for its own waits).
+/// A node of the run named `name`, once the run's root folder and node
+/// counter are known to be this user's alone ([`private`]). Signal
+/// handling is left to the process (iceoryx2 would otherwise catch
+/// SIGINT/SIGTERM for its own waits).
 pub fn create_node(config: &Config, name: &str) -> Result<Node<Svc>, String> {
-    NodeBuilder::new()
+    let prefix = config.global.prefix.to_string();
+    let root = root_dir(config);
+    private::prepare_root(&root)?;
+    private::guard_node_counter(&prefix)?;
+    let node = NodeBuilder::new()
         .name(&node_name(name)?)
         .config(config)
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<Svc>()
-        .map_err(|e| format!("cannot create node `{name}`: {e:?}"))
+        .map_err(|e| format!("cannot create node `{name}` (iceoryx2's root folder {}): {e:?}", root.display()))?;
+    // A counter still at 0 means iceoryx2 counted in a file of its own
+    // making, world-writable: its name or layout changed with iceoryx2.
+    if private::nodes_counted(&prefix)? == 0 {
+        return Err(format!(
+            "iceoryx2 did not use the node counter {} gridswarm made private; does this iceoryx2 name it differently?",
+            private::node_counter_path(&prefix).display()
+        ));
+    }
+    Ok(node)
 }
 
 /// Creates a byte-slice publish-subscribe service with one publisher and
@@ -339,109 +367,6 @@ pub fn pid_stopped(pid: u32) -> bool {
     }
 }
 
-/// Where the files of runs live: POSIX shared memory and iceoryx2's root.
-fn file_roots(root: &Path) -> Vec<PathBuf> {
-    vec![PathBuf::from("/dev/shm"), root.to_path_buf()]
-}
-
-/// Every file (not directory) under `dir`, recursively, whose name starts with `head`.
-fn files_starting_with(dir: &Path, head: &str, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let path = e.path();
-        let Ok(ft) = e.file_type() else { continue };
-        if ft.is_dir() {
-            files_starting_with(&path, head, out);
-        } else if e.file_name().to_string_lossy().starts_with(head) {
-            out.push(path);
-        }
-    }
-}
-
-/// Every file of the run with this prefix, under `/dev/shm` and `root`
-/// (iceoryx2's root directory, see [`root_dir`]).
-pub fn run_files(prefix: &str, root: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    for r in file_roots(root) {
-        files_starting_with(&r, prefix, &mut out);
-    }
-    out.sort();
-    out
-}
-
-/// Removes every file of the run with this prefix from `/dev/shm` and
-/// `root`, and the node directories that held only its files. Returns how
-/// many files it removed. Refuses a prefix [`new_prefix`] could not have
-/// made, so a typo can never remove someone else's files.
-pub fn cleanup_run(prefix: &str, root: &Path) -> io::Result<usize> {
-    if prefix_owner(prefix).is_none() {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!("`{prefix}` is not a run prefix"),
-        ));
-    }
-    let files = run_files(prefix, root);
-    let mut removed = 0;
-    let mut dirs = Vec::new();
-    for f in &files {
-        match fs::remove_file(f) {
-            Ok(()) => removed += 1,
-            Err(e) if e.kind() == io::ErrorKind::NotFound => {}
-            Err(e) => return Err(e),
-        }
-        if let Some(d) = f.parent() {
-            dirs.push(d.to_path_buf());
-        }
-    }
-    // A node's details live in a directory named by its id; once the
-    // run's files are gone it is empty. `remove_dir` fails on a directory
-    // that still holds anything, so nothing of another run is touched.
-    dirs.sort();
-    dirs.dedup();
-    for d in dirs {
-        if d.starts_with(root.join("nodes")) && d != root.join("nodes") {
-            let _ = fs::remove_dir(&d);
-        }
-    }
-    Ok(removed)
-}
-
-/// The prefixes of runs that have files under `/dev/shm` or `root`.
-pub fn run_prefixes(root: &Path) -> Vec<String> {
-    let mut files = Vec::new();
-    for r in file_roots(root) {
-        files_starting_with(&r, PREFIX_HEAD, &mut files);
-    }
-    let mut prefixes: Vec<String> = files
-        .iter()
-        .filter_map(|f| {
-            let name = f.file_name()?.to_string_lossy().into_owned();
-            let end = name.find('_')?;
-            let p = &name[..=end];
-            prefix_owner(p).map(|_| p.to_string())
-        })
-        .collect();
-    prefixes.sort();
-    prefixes.dedup();
-    prefixes
-}
-
-/// Removes the files of every run whose owning process (the pid in its
-/// prefix) is gone: what a SIGKILLed orchestrator left behind. Returns the
-/// prefixes swept.
-pub fn sweep_stale(root: &Path) -> Vec<String> {
-    let mut swept = Vec::new();
-    for p in run_prefixes(root) {
-        let owner = prefix_owner(&p).expect("run_prefixes keeps run prefixes only");
-        if owner != std::process::id() && !pid_alive(owner) && cleanup_run(&p, root).is_ok() {
-            swept.push(p);
-        }
-    }
-    swept
-}
-
 /// Raises the soft limit of open files to the hard limit (the world holds
 /// about 6 descriptors per robot). Returns the new soft limit.
 pub fn raise_nofile_limit() -> u64 {
@@ -597,6 +522,34 @@ mod tests {
         assert_eq!(c.global.prefix.to_string(), p);
     }
 
+    /// iceoryx2 (0.10) makes its node counter world-writable; the run's is
+    /// the one gridswarm made, and no file of a run is writable by others.
+    #[test]
+    fn a_node_leaves_no_file_another_user_can_write() {
+        use std::os::unix::fs::MetadataExt;
+        let prefix = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0x0de);
+        let c = config(&prefix).unwrap();
+        let root = root_dir(&c);
+        assert_eq!(root, run_root(&prefix));
+        let node = create_node(&c, "probe").unwrap();
+        let _service = create_event(&node, "probe/wake", 1, 1).unwrap();
+        assert_eq!(private::nodes_counted(&prefix), Ok(1));
+        let files = run_files(&prefix, &root);
+        let counters: Vec<_> = files.iter().filter(|f| f.to_string_lossy().ends_with(".global_mgmt")).collect();
+        assert_eq!(counters, [&private::node_counter_path(&prefix)], "iceoryx2 used the counter gridswarm made");
+        assert!(files.len() > 3, "{files:?}");
+        for f in &files {
+            let mode = fs::metadata(f).unwrap().mode();
+            assert_eq!(mode & 0o022, 0, "{} is writable by others ({mode:o})", f.display());
+        }
+        assert_eq!(fs::metadata(&root).unwrap().mode() & 0o777, 0o700);
+        drop(_service);
+        drop(node);
+        assert!(cleanup_run(&prefix, &root).unwrap() > 0);
+        assert!(run_files(&prefix, &root).is_empty());
+        assert!(!root.exists(), "the run's root folder goes with its files");
+    }
+
     #[test]
     fn process_liveness() {
         assert!(pid_alive(std::process::id()));
@@ -632,27 +585,5 @@ mod tests {
             .unwrap();
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(out.status.success() && text.contains("1 passed"), "{text}{}", String::from_utf8_lossy(&out.stderr));
-    }
-
-    #[test]
-    fn cleanup_removes_only_its_run() {
-        let dir = std::env::temp_dir().join(format!("gs-ipc-test-{}", std::process::id()));
-        let nodes = dir.join("nodes").join("1234");
-        fs::create_dir_all(&nodes).unwrap();
-        let mine = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0xabc);
-        let other = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0xdef);
-        fs::write(dir.join(format!("{mine}a.service")), b"x").unwrap();
-        fs::write(nodes.join(format!("{mine}b.details")), b"x").unwrap();
-        fs::write(dir.join(format!("{other}c.service")), b"x").unwrap();
-        assert_eq!(run_files(&mine, &dir).len(), 2);
-        assert_eq!(cleanup_run(&mine, &dir).unwrap(), 2);
-        assert!(run_files(&mine, &dir).is_empty());
-        assert!(!nodes.exists(), "the emptied node directory goes too");
-        assert_eq!(run_files(&other, &dir).len(), 1);
-        assert!(run_prefixes(&dir).contains(&other));
-        // Its owner (this process) is alive: not stale.
-        assert!(!sweep_stale(&dir).contains(&other));
-        assert!(cleanup_run("iox2_", &dir).is_err());
-        fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -76,15 +76,9 @@ pub fn ok(args: &[&str]) -> Output {
     out
 }
 
-/// iceoryx2's root directory for the runs of these tests.
-pub fn iox_root() -> PathBuf {
-    let p = format!("gs{}x1_", std::process::id());
-    gridswarm::ipc::root_dir(&gridswarm::ipc::config(&p).expect("a valid prefix"))
-}
-
-/// Every file of the run with this prefix in /dev/shm and iceoryx2's root.
+/// Every file of the run with this prefix in /dev/shm and its iceoryx2 root.
 pub fn leftover_files(prefix: &str) -> Vec<PathBuf> {
-    gridswarm::ipc::run_files(prefix, &iox_root())
+    gridswarm::ipc::run_files(prefix, &gridswarm::ipc::run_root(prefix))
 }
 
 /// No file in /dev/shm or iceoryx2's root, no temporary file and no

@@ -5,6 +5,7 @@
 //! [`sweep_stale`] removes those of runs whose orchestrator was killed.
 
 use std::fs;
+use std::os::unix::fs::DirBuilderExt;
 use std::path::{Path, PathBuf};
 
 use gridswarm::ipc::{self, RunFile};
@@ -22,7 +23,8 @@ pub struct RunFiles {
 impl RunFiles {
     pub fn create(prefix: &str) -> Result<Self> {
         let dir = std::env::temp_dir().join(format!("gridswarm-{prefix}"));
-        fs::create_dir_all(&dir).map_err(Error::write(&dir))?;
+        // Only this user may read the run's files (SECURITY.md).
+        fs::DirBuilder::new().mode(0o700).create(&dir).map_err(Error::write(&dir))?;
         Ok(RunFiles { dir })
     }
 
