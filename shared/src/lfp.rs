@@ -295,21 +295,29 @@ struct Repulsion {
 }
 
 impl Repulsion {
-    fn field(&self, i: usize, pos: &[Point]) -> Vector {
-        let mut field = Vector::zeros();
+    /// Every robot's push at once into `fields`: a pair's push is computed
+    /// once and given to both robots with opposite signs (exactly: the
+    /// vector negates, its length is the same), and each robot's sum runs
+    /// over the others in ascending order, as one robot's sum alone would.
+    fn fields(&self, pos: &[Point], fields: &mut Vec<Vector>) {
+        fields.clear();
+        fields.resize(pos.len(), Vector::zeros());
         if self.k == 0.0 || self.range <= 0.0 {
-            return field;
+            return;
         }
-        let (r2, inv_r, p) = (self.range * self.range, 1.0 / self.range, pos[i]);
-        for (j, &q) in pos.iter().enumerate() {
-            let v = p - q;
-            let d2 = v.norm_squared();
-            if j != i && d2 < r2 && d2 > 1e-18 {
-                let d = d2.sqrt();
-                field += v * (self.k * (1.0 / d - inv_r) / (d2 * d));
+        let (r2, inv_r) = (self.range * self.range, 1.0 / self.range);
+        for i in 0..pos.len() {
+            for j in i + 1..pos.len() {
+                let v = pos[i] - pos[j];
+                let d2 = v.norm_squared();
+                if d2 < r2 && d2 > 1e-18 {
+                    let d = d2.sqrt();
+                    let push = v * (self.k * (1.0 / d - inv_r) / (d2 * d));
+                    fields[i] += push;
+                    fields[j] -= push;
+                }
             }
         }
-        field
     }
 }
 
@@ -331,6 +339,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
 
     let mut pos: Vec<Point> = starts.iter().map(|&v| world.grid.position(v)).collect();
     let mut next = pos.clone();
+    let mut pushes = Vec::with_capacity(n);
     let mut robots: Vec<Robot> = (0..n)
         .map(|k| Robot {
             heading: Vector::zeros(),
@@ -403,6 +412,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
 
         let mut round_collisions = 0u32;
         for _ in 0..micro {
+            repel.fields(&pos, &mut pushes);
             for (i, r) in robots.iter_mut().enumerate() {
                 let p = pos[i];
                 if !r.moving {
@@ -410,7 +420,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
                     continue;
                 }
                 let (mut field, nearest) = lw.sensing.sense(p, prm.r_so, lfp.k_obstacle);
-                field += repel.field(i, &pos);
+                field += pushes[i];
                 let bent = r.heading + field;
                 let len = bent.norm();
                 let dir = if len > 1e-12 { bent / len } else { r.heading };
