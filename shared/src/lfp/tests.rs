@@ -355,13 +355,18 @@ fn robots_repel_within_sonar_range_by_default() {
     let pos = [Point::new(0.0, 0.0), Point::new(d, 0.0), Point::new(0.0, p.r_so / 2.0)];
     let sonar = Repulsion { range: RepelRange::Sonar.range(&p), k: 1.0 };
     let radio = Repulsion { range: RepelRange::Radio.range(&p), k: 1.0 };
+    let field = |r: &Repulsion, pos: &[Point]| {
+        let mut f = Vec::new();
+        r.fields(pos, &mut f);
+        f
+    };
     // Robot 1 is out of sonar range of robot 0 but within radio range.
-    let only_near = sonar.field(0, &pos[..2]);
-    assert_eq!(only_near, Vector::zeros());
-    let far = radio.field(0, &pos[..2]);
-    assert!(far.x < 0.0 && far.y == 0.0, "pushed away from robot 1: {far:?}");
+    assert_eq!(field(&sonar, &pos[..2]), [Vector::zeros(); 2]);
+    let far = field(&radio, &pos[..2]);
+    assert!(far[0].x < 0.0 && far[0].y == 0.0, "pushed away from robot 1: {:?}", far[0]);
+    assert_eq!(far[1], -far[0], "and robot 1 from robot 0, as hard");
     // Robot 2 is within both: pushed down, away from it.
-    assert!(sonar.field(0, &pos).y < 0.0);
+    assert!(field(&sonar, &pos)[0].y < 0.0);
     // The default run differs from the radio reading when robots meet.
     let w = paper_like();
     let starts = border_starts(&w, 8);
