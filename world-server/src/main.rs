@@ -85,7 +85,8 @@ fn run(args: Args) -> Result<(), String> {
     let t0 = Instant::now();
     ipc::quiet_logs();
     let config = ipc::config(&args.prefix)?;
-    signals::end_cleanly_on_signals(signals::Cleanup {
+    // Dropped last, after the ports: then nothing of the run is in use.
+    let _orphan = signals::end_cleanly_on_signals(signals::Cleanup {
         prefix: args.prefix.clone(),
         root: ipc::root_dir(&config),
         run_dir: signals::run_dir_of(&args.run, &args.prefix),

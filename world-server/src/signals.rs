@@ -11,7 +11,10 @@
 //!
 //! The signals are blocked in every thread and taken by one thread with
 //! `sigwait`, so the cleanup runs as ordinary code, not in a handler,
-//! whatever the main thread is blocked in.
+//! whatever the main thread is blocked in. The orchestrator's death can
+//! also end the main thread first (its stdout closes, or its robots vanish
+//! with it): so the world cleans up on its way out too whenever the
+//! orchestrator is gone ([`Orphan`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -21,6 +24,7 @@ use gridswarm::ipc;
 const SIGNALS: [libc::c_int; 4] = [libc::SIGTERM, libc::SIGINT, libc::SIGHUP, libc::SIGQUIT];
 
 /// What the world removes when a signal ends it.
+#[derive(Clone)]
 pub struct Cleanup {
     pub prefix: String,
     pub root: PathBuf,
@@ -37,10 +41,35 @@ pub fn run_dir_of(run_file: &Path, prefix: &str) -> Option<PathBuf> {
     (dir.file_name()?.to_str()? == format!("gridswarm-{prefix}")).then(|| dir.to_path_buf())
 }
 
+/// Removes the run's files when dropped if the orchestrator is gone.
+pub struct Orphan {
+    cleanup: Cleanup,
+    parent: libc::pid_t,
+}
+
+impl Drop for Orphan {
+    fn drop(&mut self) {
+        if orphaned(self.parent) {
+            remove(&self.cleanup, true);
+            std::thread::sleep(SETTLE);
+            remove(&self.cleanup, true);
+        }
+    }
+}
+
+/// How long agents killed with the orchestrator may take to be gone.
+const SETTLE: Duration = Duration::from_millis(100);
+
+fn orphaned(parent: libc::pid_t) -> bool {
+    // SAFETY: getppid has no preconditions.
+    unsafe { libc::getppid() != parent }
+}
+
 /// Blocks the signals in this thread (and so in every thread started
 /// after it) and starts the thread that ends the process on them. Call it
-/// first, before any other thread exists.
-pub fn end_cleanly_on_signals(cleanup: Cleanup) -> Result<(), String> {
+/// first, before any other thread exists; keep the [`Orphan`] until the
+/// world's ports are gone.
+pub fn end_cleanly_on_signals(cleanup: Cleanup) -> Result<Orphan, String> {
     // SAFETY: sigset operations on a local set; pthread_sigmask on this thread.
     let set = unsafe {
         let mut set: libc::sigset_t = std::mem::zeroed();
@@ -56,18 +85,20 @@ pub fn end_cleanly_on_signals(cleanup: Cleanup) -> Result<(), String> {
     };
     // SAFETY: getppid has no preconditions.
     let parent = unsafe { libc::getppid() };
+    let orphan = Orphan { cleanup: cleanup.clone(), parent };
     std::thread::Builder::new()
         .name("signals".into())
         .spawn(move || {
             let mut sig: libc::c_int = 0;
             // SAFETY: sigwait on a set of signals blocked in every thread.
             while unsafe { libc::sigwait(&set, &mut sig) } != 0 {}
-            // SAFETY: getppid has no preconditions.
-            let orphaned = unsafe { libc::getppid() } != parent;
+            // The parent's death signals each thread of the world in turn,
+            // before this one is reparented: ask who the parent is later.
+            // Agents killed with it may still be finishing a write, too.
+            std::thread::sleep(SETTLE);
+            let orphaned = orphaned(parent);
             remove(&cleanup, orphaned);
-            // Agents killed with the orchestrator may still have been
-            // finishing their last write: sweep once more.
-            std::thread::sleep(Duration::from_millis(100));
+            std::thread::sleep(SETTLE);
             remove(&cleanup, orphaned);
             let why = if orphaned { " (the orchestrator is gone)" } else { "" };
             eprintln!("error: stopped by signal {sig}{why}; removed the run's shared-memory files");
@@ -76,7 +107,7 @@ pub fn end_cleanly_on_signals(cleanup: Cleanup) -> Result<(), String> {
             unsafe { libc::_exit(1) }
         })
         .map_err(|e| format!("cannot start the signal thread: {e}"))?;
-    Ok(())
+    Ok(orphan)
 }
 
 fn remove(c: &Cleanup, orphaned: bool) {
