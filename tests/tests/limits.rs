@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use gridswarm::ipc::{nofile_needed, FDS_BASE, WORLD_FDS_PER_ROBOT};
+use gridswarm::nofile::{needed, FDS_BASE, WORLD_FDS_PER_ROBOT};
 use gridswarm_e2e::*;
 
 /// `gridswarm ARGS` with open-file limits `soft:hard`, as `prlimit
@@ -60,7 +60,7 @@ fn runs_a_limit_of_256_cannot_hold_are_refused_at_once() {
     for n in [15usize, 17, 18, 19, 24] {
         let robots = n.to_string();
         let (out, took, prefixes) = timed(limited(256, 256, &["run", "--robots", &robots, "--seed", "3"]));
-        assert_refused(&out, took, &format!("a distributed run of {n} robots"), nofile_needed(n), 256);
+        assert_refused(&out, took, &format!("a distributed run of {n} robots"), needed(n), 256);
         assert_no_leftovers(&prefixes);
     }
 }
@@ -69,7 +69,7 @@ fn runs_a_limit_of_256_cannot_hold_are_refused_at_once() {
 fn the_largest_run_a_limit_of_256_admits_runs_correctly() {
     let _s = serial();
     let n = ((256 - FDS_BASE) / WORLD_FDS_PER_ROBOT) as usize;
-    assert!(nofile_needed(n) <= 256 && nofile_needed(n + 1) > 256);
+    assert!(needed(n) <= 256 && needed(n + 1) > 256);
     let robots = n.to_string();
     let args = ["run", "--json", "--robots", &robots, "--seed", "3"];
     let (out, _, _) = timed(limited(256, 256, &args));
@@ -110,7 +110,7 @@ fn experiments_are_refused_before_their_first_run() {
     ];
     for (args, n) in cases {
         let (out, took, prefixes) = timed(limited(256, 256, args));
-        assert_refused(&out, took, &format!("a distributed run of {n} robots"), nofile_needed(n), 256);
+        assert_refused(&out, took, &format!("a distributed run of {n} robots"), needed(n), 256);
         assert!(!Path::new(&out_dir).exists(), "{args:?} wrote results");
         assert_no_leftovers(&prefixes);
     }

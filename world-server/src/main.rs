@@ -94,7 +94,7 @@ fn run(args: Args) -> Result<(), String> {
     let (run, world, starts) = load(&args.run)?;
     let robots = run.robots;
     // Running out of descriptors midway would look like dead robots.
-    ipc::ensure_nofile(ipc::nofile_needed(robots), &format!("a world of {robots} robots"))?;
+    gridswarm::nofile::ensure(gridswarm::nofile::needed(robots), &format!("a world of {robots} robots"))?;
     let node = link::world_node(&config)?;
     let services = link::Services::create(&node, robots)?;
     let ports = link::Ports::new(&services)?;

@@ -211,7 +211,7 @@ impl<'a> Remote<'a> {
             return Ok(());
         }
         // Counting open files would itself need a descriptor: say the limit.
-        let limit = ipc::nofile_limits().map_or_else(|_| "unknown".into(), |(soft, _)| soft.to_string());
+        let limit = gridswarm::nofile::limits().map_or_else(|_| "unknown".into(), |(soft, _)| soft.to_string());
         Err(format!(
             "cannot wake robot {r} (pid {pid}): its listener cannot be reached (out of open files? the limit is {limit})"
         ))

@@ -27,6 +27,7 @@ use std::sync::mpsc::{self, Receiver};
 use std::time::{Duration, Instant};
 
 use gridswarm::ipc::{self, RunFile, RunReport};
+use gridswarm::nofile;
 use gridswarm::outcome::{RunConfig, RunResult};
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
@@ -115,7 +116,7 @@ pub fn run(opts: &RunOptions) -> Result<(String, bool)> {
 /// largest count before their first run.
 pub fn admit(robots: usize) -> Result<()> {
     let what = format!("a distributed run of {robots} robots");
-    ipc::ensure_nofile(ipc::nofile_needed(robots), &what).map(|_| ()).map_err(Error::Run)
+    nofile::ensure(nofile::needed(robots), &what).map(|_| ()).map_err(Error::Run)
 }
 
 /// Runs once as a library call and prints nothing: returns the summary
