@@ -32,6 +32,11 @@ pub enum Error {
 
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// Exit status of a command that ran but whose answer is no: a search
+/// that ended incomplete (`simulate`, `run`: every robot failed, cut off,
+/// the round limit) or an assumption that fails (`check`).
+pub const EXIT_INCOMPLETE: u8 = 3;
+
 impl Error {
     /// The process exit status for this error: 2 for usage errors, 1 otherwise.
     pub fn exit_code(&self) -> u8 {

@@ -2,9 +2,10 @@
 //! and turns every error into one `error: ...` line on stderr (a usage
 //! error keeps clap's whole message: its suggestions and the usage line).
 //!
-//! Exit status: 0 success; 1 an error (bad scenario, unwritable output, ...);
-//! 2 a usage error (unknown algorithm, bad robot range, ...); 3 `check` found
-//! an assumption that does not hold.
+//! Exit status ([`EXIT_STATUS`]): 0 success; 1 an error (bad scenario,
+//! unwritable output, a failed child, a signal, ...); 2 a usage error
+//! (unknown algorithm, bad robot range, ...); 3 the search ended incomplete
+//! (`simulate`, `run`) or `check` found an assumption that does not hold.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -24,11 +25,12 @@ use gridswarm_orchestrator::robots::{RobotCounts, MAX_ROBOTS};
 use gridswarm_orchestrator::scale::{self, ScaleOptions};
 use gridswarm_orchestrator::simulate::{self, SimulateOptions};
 use gridswarm_orchestrator::sweep::Engine;
+use gridswarm_orchestrator::error::EXIT_INCOMPLETE;
 use gridswarm_orchestrator::{check, Error};
 
 #[derive(Parser, Debug)]
 #[command(name = "gridswarm", version, about = "Decentralized multi-robot search on a grid (Yang, CCC 2017)")]
-#[command(after_help = "Exit status: 0 success, 1 error, 2 usage error, 3 `check` found a failing assumption.")]
+#[command(after_help = EXIT_STATUS)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -284,6 +286,15 @@ enum ExperimentKind {
     },
 }
 
+/// The exit codes, for every command's --help.
+const EXIT_STATUS: &str = "Exit status:
+  0  success: the search completed (simulate, run); the command did its work (experiments, replay, check)
+  1  error: bad scenario or value, unwritable output, a failed child process, too low an open-file
+     limit, interrupted by SIGINT, SIGTERM, SIGHUP or SIGQUIT
+  2  usage error: unknown flag or algorithm, a value out of range
+  3  the search ended incomplete (simulate, run: every robot failed, cut off, or --max-rounds
+     reached; its outputs are written), or `check` found a failing assumption";
+
 /// Writes to stdout without `print!`'s panic on a closed pipe
 /// (`gridswarm experiment | head` must not end in a panic).
 fn emit(text: &str) {
@@ -383,7 +394,9 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 max_rounds,
                 faults: faults.plan(),
             };
-            emit(&simulate::simulate(&opts)?);
+            let (text, complete) = simulate::simulate(&opts)?;
+            emit(&text);
+            return Ok(finished(complete));
         }
         Command::Experiment { kind: Some(kind), .. } => emit(&experiment_kind(kind)?),
         Command::Experiment { scenario, out, grids: true, .. } => {
@@ -437,18 +450,25 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             };
             let plan = faults.plan();
             plan.check_scenario(&base)?;
-            emit(&gridswarm_orchestrator::run::run(&plan.run_options(base))?);
+            let (text, complete) = gridswarm_orchestrator::run::run(&plan.run_options(base))?;
+            emit(&text);
+            return Ok(finished(complete));
         }
         Command::Check { scenario } => {
             let outcome = check::check(&scenario)?;
             emit(&outcome.text);
             if !outcome.all_hold() {
                 eprintln!("error: scenario `{scenario}` fails check(s) {}", outcome.failing_ids());
-                return Ok(ExitCode::from(3));
+                return Ok(ExitCode::from(EXIT_INCOMPLETE));
             }
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A search's exit status: 0 if it completed, 3 if not.
+fn finished(complete: bool) -> ExitCode {
+    ExitCode::from(if complete { 0 } else { EXIT_INCOMPLETE })
 }
 
 fn main() -> ExitCode {

@@ -64,7 +64,7 @@ fn simulate_here(args: &[String]) -> Result<String, String> {
             _ => return Err(format!("unknown flag {flag}")),
         }
     }
-    simulate(&opts).map_err(|e| e.to_string())
+    simulate(&opts).map(|(text, _complete)| text).map_err(|e| e.to_string())
 }
 
 fn main() -> ExitCode {

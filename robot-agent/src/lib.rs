@@ -9,8 +9,10 @@
 //! `Malformed` note and is skipped); call [`Peer::wake`]; encode the frames
 //! to send; publish its answer and notify the world. On `End` it exits 0;
 //! if the world's process is gone (checked whenever the world is quiet for
-//! `--world-timeout-ms`) it exits 3. Errors: one line
-//! `robot-agent K: error: ...`, exit status 1.
+//! `--world-timeout-ms`, or when a notification of it reaches no one) it
+//! exits 3. Errors: one line `robot-agent K: error: ...`, exit status 1;
+//! the orchestrator ends the run on them (a wake-up of a live world that
+//! reaches no one is one: the run would otherwise crawl on time-outs).
 //!
 //! It is a library so that a researcher's program can be the agent of its
 //! own choice rules: [`main_with`] registers them, then runs as
@@ -62,6 +64,9 @@ enum Exit {
     WorldGone,
 }
 
+/// The error of a wake-up of the world that reached no one.
+const UNREACHABLE: &str = "cannot notify the world: its listener cannot be reached";
+
 /// The agent's iceoryx2 ports.
 struct Ports {
     inbox: ipc::BytesSubscriber,
@@ -101,7 +106,13 @@ impl Ports {
             }
         });
         res?;
-        self.notifier.notify().map(|_| ()).map_err(|e| format!("cannot notify the world: {e:?}"))
+        // iceoryx2 reports a listener it could not reach (out of
+        // descriptors, or the world gone) as zero notified, not an error.
+        match self.notifier.notify() {
+            Ok(n) if n > 0 => Ok(()),
+            Ok(_) => Err(UNREACHABLE.into()),
+            Err(e) => Err(format!("cannot notify the world: {e:?}")),
+        }
     }
 }
 
@@ -258,7 +269,13 @@ pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    match run(&args, &setup) {
+    let world_pid = args.world_pid.unwrap_or(0);
+    // Unreachable because the world died: that is not this robot's error.
+    let result = match run(&args, &setup) {
+        Err(e) if e == UNREACHABLE && !ipc::pid_alive(world_pid) => Ok(Exit::WorldGone),
+        r => r,
+    };
+    match result {
         Ok(Exit::Done) => ExitCode::SUCCESS,
         Ok(Exit::WorldGone) => {
             eprintln!("robot-agent {}: the world-server is gone", setup.id);

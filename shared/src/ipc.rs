@@ -367,31 +367,6 @@ pub fn pid_stopped(pid: u32) -> bool {
     }
 }
 
-/// Raises the soft limit of open files to the hard limit (the world holds
-/// about 6 descriptors per robot). Returns the new soft limit.
-pub fn raise_nofile_limit() -> u64 {
-    // SAFETY: getrlimit/setrlimit with a valid pointer to a local struct.
-    unsafe {
-        let mut lim = libc::rlimit {
-            rlim_cur: 0,
-            rlim_max: 0,
-        };
-        if libc::getrlimit(libc::RLIMIT_NOFILE, &mut lim) != 0 {
-            return 0;
-        }
-        if lim.rlim_cur < lim.rlim_max {
-            let want = libc::rlimit {
-                rlim_cur: lim.rlim_max,
-                rlim_max: lim.rlim_max,
-            };
-            if libc::setrlimit(libc::RLIMIT_NOFILE, &want) == 0 {
-                return lim.rlim_max;
-            }
-        }
-        lim.rlim_cur
-    }
-}
-
 /// CPU time (user + system) process `pid` has used so far, in milliseconds.
 pub fn cpu_ms_of(pid: u32) -> f64 {
     let Ok(stat) = fs::read_to_string(format!("/proc/{pid}/stat")) else {

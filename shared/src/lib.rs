@@ -34,3 +34,5 @@ pub mod vopr;
 /// The distributed engine's shared pieces (iceoryx2 config, names, cleanup).
 #[cfg(feature = "ipc")]
 pub mod ipc;
+#[cfg(feature = "ipc")]
+pub mod nofile;

@@ -47,7 +47,8 @@ pub fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
-/// Runs `gridswarm run --json ARGS`, expects success, returns the summary.
+/// Runs `gridswarm run --json ARGS`, expects the search to finish
+/// ([`finished`]), returns the summary.
 pub fn run_json(args: &[&str]) -> Value {
     let out = gridswarm()
         .arg("run")
@@ -55,14 +56,27 @@ pub fn run_json(args: &[&str]) -> Value {
         .args(args)
         .output()
         .expect("gridswarm runs");
-    assert!(
-        out.status.success(),
-        "gridswarm run {args:?} failed: {}",
-        text(&out.stderr)
-    );
-    let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let v = finished(&out, args);
     assert_no_leftovers(v["ipc_prefix"].as_str().expect("the run names its prefix"));
     v
+}
+
+/// The JSON summary of a `simulate` or `run` whose search finished: exit
+/// status 0 if it completed, 3 if it ended incomplete, as it says.
+pub fn finished(out: &Output, args: &[&str]) -> Value {
+    let code = out.status.code();
+    assert!(matches!(code, Some(0 | 3)), "gridswarm {args:?} failed ({:?}): {}", out.status, text(&out.stderr));
+    let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(code == Some(0), v["complete"] == true, "exit status {code:?} for complete = {}", v["complete"]);
+    v
+}
+
+/// Runs `gridswarm simulate` or `run` with ARGS; expects the search to
+/// finish, complete (exit status 0) or not (3).
+pub fn search(args: &[&str]) -> Output {
+    let out = gridswarm().args(args).output().expect("gridswarm runs");
+    assert!(matches!(out.status.code(), Some(0 | 3)), "gridswarm {args:?} failed: {}", text(&out.stderr));
+    out
 }
 
 /// Runs a gridswarm subcommand, expects success.
@@ -92,6 +106,47 @@ pub fn assert_no_leftovers(prefix: &str) {
         "processes of run {prefix} left: {:?}",
         processes_of(prefix)
     );
+}
+
+/// Starts a run that stalls in round 2 (robot 2 stops its own process
+/// there, unscheduled: the world waits for its answer) and returns it with
+/// its world pid, agent pids and prefix.
+pub fn stalled_run() -> (std::process::Child, u32, Vec<u32>, String) {
+    let child = gridswarm()
+        .args(["run", "--robots", "13", "--seed", "7"])
+        .env("GRIDSWARM_AGENT_HANG", "2@2")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pid = child.id();
+    let mut world = 0;
+    let mut agents = Vec::new();
+    let mut prefix = String::new();
+    let found = wait_until(Duration::from_secs(20), || {
+        let kids = children(pid);
+        let (w, a): (Vec<u32>, Vec<u32>) =
+            kids.iter().partition(|&&k| cmdline(k).first().is_some_and(|c| c.ends_with("world-server")));
+        if w.len() == 1 && a.len() == 13 {
+            world = w[0];
+            agents = a;
+            prefix = arg_of(&cmdline(world), "--prefix").unwrap_or_default();
+            agents.iter().any(|&p| {
+                arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with("robot-2.json")) && stopped(p)
+            })
+        } else {
+            false
+        }
+    });
+    assert!(found, "the run did not reach its stall");
+    assert!(!prefix.is_empty());
+    (child, world, agents, prefix)
+}
+
+/// Every process in `pids` ends within 5 s, and nothing of the run is left.
+pub fn assert_all_gone(pids: &[u32], prefix: &str) {
+    assert!(wait_until(Duration::from_secs(5), || pids.iter().all(|&p| !alive(p))), "a process of the run outlived it");
+    assert_no_leftovers(prefix);
 }
 
 /// Child processes of `pid`.

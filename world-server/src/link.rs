@@ -91,10 +91,11 @@ impl Ports {
         res
     }
 
-    /// Wakes robot `r` (a failure means its side is gone; the caller finds
-    /// out by its silence).
-    pub fn notify(&self, r: usize) {
-        let _ = self.wakes[r].notify();
+    /// Wakes robot `r`; false if no listener was reached. iceoryx2 counts
+    /// a connection it could not open (e.g. out of descriptors) or a
+    /// listener whose process is gone as not reached, without an error.
+    pub fn notify(&self, r: usize) -> bool {
+        matches!(self.wakes[r].notify(), Ok(n) if n > 0)
     }
 
     /// Waits up to `timeout` for robots to notify; pushes their ids.
@@ -102,9 +103,10 @@ impl Ports {
         let _ = self.listener.timed_wait(|ev| woke.push(ev.id.as_value()), timeout);
     }
 
-    /// Takes the next chunk of robot `r`'s outbox into `buf`.
-    pub fn recv(&self, r: usize, buf: &mut Vec<u8>) -> bool {
-        ipc::receive(&self.outs[r], buf).unwrap_or(false)
+    /// Takes the next chunk of robot `r`'s outbox into `buf`, if any. An
+    /// error is a connection to the robot's publisher that failed.
+    pub fn recv(&self, r: usize, buf: &mut Vec<u8>) -> Result<bool, String> {
+        ipc::receive(&self.outs[r], buf)
     }
 }
 

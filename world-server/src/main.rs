@@ -12,10 +12,13 @@
 //! robot's process meanwhile); with `--progress`, `tick K` at the start of
 //! every slot; `done` after the report is written. Errors are one
 //! `error: ...` line on stderr and exit status 1; usage errors clap's
-//! message and exit status 2.
+//! message and exit status 2. A run whose descriptors the open-file limit
+//! cannot hold is refused before any service exists; a signal ends the
+//! world after removing the run's files ([`signals`]).
 
 mod link;
 mod remote;
+mod signals;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -81,13 +84,17 @@ fn load(path: &PathBuf) -> Result<(RunFile, World, Vec<u32>), String> {
 fn run(args: Args) -> Result<(), String> {
     let t0 = Instant::now();
     ipc::quiet_logs();
-    let nofile = ipc::raise_nofile_limit();
     let config = ipc::config(&args.prefix)?;
+    // Dropped last, after the ports: then nothing of the run is in use.
+    let _orphan = signals::end_cleanly_on_signals(signals::Cleanup {
+        prefix: args.prefix.clone(),
+        root: ipc::root_dir(&config),
+        run_dir: signals::run_dir_of(&args.run, &args.prefix),
+    })?;
     let (run, world, starts) = load(&args.run)?;
     let robots = run.robots;
-    if (nofile as usize) < 8 * robots + 64 {
-        eprintln!("warning: open-file limit {nofile} may be too low for {robots} robots");
-    }
+    // Running out of descriptors midway would look like dead robots.
+    gridswarm::nofile::ensure(gridswarm::nofile::needed(robots), &format!("a world of {robots} robots"))?;
     let node = link::world_node(&config)?;
     let services = link::Services::create(&node, robots)?;
     let ports = link::Ports::new(&services)?;

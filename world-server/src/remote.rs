@@ -8,7 +8,8 @@
 //! that stays silent is checked after a short while: if its process is
 //! gone (its iceoryx2 node dead, or no process under its pid) its answer is
 //! `None` and the kernel counts it dead. A live robot silent for longer
-//! than the run's patience is an error that ends the run, naming it.
+//! than the run's patience is an error that ends the run, naming it, and
+//! so is a wake-up that reaches no listener of a live robot.
 //!
 //! At a fault the world pauses: it prints `fault K` and waits for `go` on
 //! stdin while the orchestrator signals the robot's process.
@@ -68,6 +69,8 @@ pub struct Remote<'a> {
     pub batches: u64,
     /// Bytes of the largest wake-up message.
     pub largest_wake: usize,
+    /// The last failure to read a robot's outbox: (robot, error).
+    recv_error: Option<(usize, String)>,
 }
 
 impl<'a> Remote<'a> {
@@ -95,6 +98,7 @@ impl<'a> Remote<'a> {
             liveness_checks: 0,
             batches: 0,
             largest_wake: 0,
+            recv_error: None,
         }
     }
 
@@ -114,7 +118,8 @@ impl<'a> Remote<'a> {
         while missing > 0 {
             if start.elapsed() > timeout {
                 let who: Vec<usize> = (0..self.pids.len()).filter(|&r| self.pids[r] == 0).take(10).collect();
-                return Err(format!("{missing} robot(s) did not say hello within {timeout:?}, e.g. {who:?}"));
+                let why = self.recv_error.take().map(|(r, e)| format!("; robot {r}'s outbox: {e}")).unwrap_or_default();
+                return Err(format!("{missing} robot(s) did not say hello within {timeout:?}, e.g. {who:?}{why}"));
             }
             self.woke.clear();
             let mut woke = std::mem::take(&mut self.woke);
@@ -135,9 +140,18 @@ impl<'a> Remote<'a> {
         Ok(())
     }
 
-    /// The next complete, valid message in robot `r`'s outbox.
+    /// The next complete, valid message in robot `r`'s outbox (a failure
+    /// to read it is kept in `recv_error`).
     fn take(&mut self, r: usize) -> Option<ToWorld> {
-        while self.ports.recv(r, &mut self.buf) {
+        loop {
+            match self.ports.recv(r, &mut self.buf) {
+                Ok(true) => {}
+                Ok(false) => return None,
+                Err(e) => {
+                    self.recv_error = Some((r, e));
+                    return None;
+                }
+            }
             match self.asm[r].push(&self.buf) {
                 Ok(Some((_, bytes))) => match wire::decode_to_world(bytes, &self.limits) {
                     Ok(m) => return Some(m),
@@ -147,7 +161,6 @@ impl<'a> Remote<'a> {
                 Err(_) => self.dropped += 1,
             }
         }
-        None
     }
 
     /// Tells every robot still there that the run is over.
@@ -155,8 +168,9 @@ impl<'a> Remote<'a> {
         let bytes = wire::encode_to_agent(&ToAgent::End);
         self.seq += 1;
         for r in 0..self.pids.len() {
+            // A robot that cannot hear `End` is killed by the orchestrator.
             if !self.gone[r] && self.ports.post(r, self.seq, &bytes).is_ok() {
-                self.ports.notify(r);
+                let _ = self.ports.notify(r);
             }
         }
     }
@@ -181,9 +195,26 @@ impl<'a> Remote<'a> {
         // Every inbox filled before the first robot runs: a woken robot
         // may take the world's core at once.
         for c in calls {
-            self.ports.notify(c.robot);
+            if !self.ports.notify(c.robot) {
+                self.unreachable(c.robot)?;
+            }
         }
         Ok(())
+    }
+
+    /// A wake-up that reached no one: fine if the robot's process is gone
+    /// (its silence will bury it), an error otherwise, for the robot
+    /// would never hear the world and the run would crawl on time-outs.
+    fn unreachable(&self, r: usize) -> Result<(), String> {
+        let pid = self.pids[r];
+        if ipc::pid_liveness(pid) == Some(false) {
+            return Ok(());
+        }
+        // Counting open files would itself need a descriptor: say the limit.
+        let limit = gridswarm::nofile::limits().map_or_else(|_| "unknown".into(), |(soft, _)| soft.to_string());
+        Err(format!(
+            "cannot wake robot {r} (pid {pid}): its listener cannot be reached (out of open files? the limit is {limit})"
+        ))
     }
 
     /// Collects the answers to `calls` into `slots`.
@@ -210,6 +241,12 @@ impl<'a> Remote<'a> {
                 }
             }
             self.woke = woke;
+            // An outbox the world cannot read would look like silence.
+            if let Some((r, e)) = self.recv_error.take() {
+                if ipc::pid_liveness(self.pids[r]) != Some(false) {
+                    return Err(format!("cannot read robot {r}'s answers (pid {}): {e}", self.pids[r]));
+                }
+            }
             if missing == 0 {
                 break;
             }

@@ -33,8 +33,9 @@ pub struct SimulateOptions {
     pub faults: FaultPlan,
 }
 
-/// Runs once; returns the text for stdout (warnings go to stderr directly).
-pub fn simulate(opts: &SimulateOptions) -> Result<String> {
+/// Runs once; returns the text for stdout (warnings go to stderr directly)
+/// and whether the search completed.
+pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     let mut scenario = contract::load_scenario(&opts.scenario)?;
     if let Some(s) = opts.situation {
         scenario.situation = s;
@@ -78,11 +79,11 @@ pub fn simulate(opts: &SimulateOptions) -> Result<String> {
     };
 
     if opts.json {
-        return Ok(format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")));
+        return Ok((format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")), result.complete));
     }
     let mut text = output::headline(&scenario, &result, "", "");
     for p in written {
         text += &format!("wrote {}\n", p.display());
     }
-    Ok(text)
+    Ok((text, result.complete))
 }

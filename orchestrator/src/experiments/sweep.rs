@@ -75,7 +75,9 @@ pub fn execute(engine: Engine, setting: &Setting, jobs: &[Job], progress: bool) 
     }
     match engine {
         Engine::InProcess => in_process(setting, jobs, progress),
-        Engine::Distributed => distributed(setting, jobs, progress),
+        // The largest run refused before the first one starts.
+        Engine::Distributed => crate::run::admit(jobs.iter().map(|j| j.robots).max().unwrap_or(1))
+            .and_then(|()| distributed(setting, jobs, progress)),
     }
 }
 

@@ -1,11 +1,14 @@
 //! Process plumbing for `gridswarm run`: finding the sibling binaries,
-//! spawning children that cannot outlive the orchestrator, turning SIGINT
-//! and SIGTERM into an event, and reading the world-server's stdout lines.
+//! spawning children that cannot outlive the orchestrator, turning SIGINT,
+//! SIGTERM, SIGHUP (a closed terminal) and SIGQUIT into an event, and
+//! reading the world-server's stdout lines.
 //!
-//! Every child gets `PR_SET_PDEATHSIG(SIGKILL)` (it dies with the thread
-//! that spawned it: always the main thread here) and its own process group,
+//! Every child gets `PR_SET_PDEATHSIG` (it dies with the thread that
+//! spawned it: always the main thread here) and its own process group,
 //! so a Ctrl-C at the terminal reaches only the orchestrator, which then
-//! ends the children itself and removes the run's files.
+//! ends the children itself and removes the run's files. Agents get
+//! SIGKILL; the world-server SIGTERM, on which it removes the run's files
+//! itself: after a `kill -9` of the orchestrator nobody else would.
 
 use std::io::{BufRead, BufReader};
 use std::os::unix::process::CommandExt;
@@ -22,7 +25,7 @@ pub enum Event {
     Line(String),
     /// The world-server's stdout closed: it exited or died.
     WorldClosed,
-    /// SIGINT or SIGTERM reached the orchestrator.
+    /// One of [`SIGNALS`] reached the orchestrator.
     Signal(i32),
 }
 
@@ -50,9 +53,23 @@ pub fn binary(name: &str) -> Result<PathBuf, String> {
     }
 }
 
-/// Makes `cmd` spawn a child that is SIGKILLed when the orchestrator dies
-/// and that sits in a process group of its own.
-pub fn guard(cmd: &mut Command) -> &mut Command {
+/// The signals that end a run cleanly (children reaped, files removed).
+pub const SIGNALS: [i32; 4] = [libc::SIGINT, libc::SIGTERM, libc::SIGHUP, libc::SIGQUIT];
+
+/// A signal's name, for messages.
+pub fn signal_name(sig: i32) -> String {
+    match sig {
+        libc::SIGINT => "SIGINT".into(),
+        libc::SIGTERM => "SIGTERM".into(),
+        libc::SIGHUP => "SIGHUP".into(),
+        libc::SIGQUIT => "SIGQUIT".into(),
+        s => format!("signal {s}"),
+    }
+}
+
+/// Makes `cmd` spawn a child that gets `death_signal` when the
+/// orchestrator dies and that sits in a process group of its own.
+pub fn guard(cmd: &mut Command, death_signal: i32) -> &mut Command {
     let parent = std::process::id() as libc::pid_t;
     cmd.process_group(0);
     // SAFETY: only async-signal-safe calls between fork and exec.
@@ -60,7 +77,7 @@ pub fn guard(cmd: &mut Command) -> &mut Command {
         cmd.pre_exec(move || {
             if libc::prctl(
                 libc::PR_SET_PDEATHSIG,
-                libc::SIGKILL as libc::c_ulong,
+                death_signal as libc::c_ulong,
                 0,
                 0,
                 0,
@@ -116,7 +133,7 @@ extern "C" fn on_signal(sig: libc::c_int) {
     }
 }
 
-/// Turns SIGINT and SIGTERM into [`Event::Signal`] on `tx` (a self-pipe
+/// Turns [`SIGNALS`] into [`Event::Signal`] on `tx` (a self-pipe
 /// read by a thread) until [`default_signals`]. A later call (the next run
 /// in the same process) redirects the events to its own `tx`.
 pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
@@ -164,7 +181,7 @@ pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
             });
         }
     }
-    for sig in [libc::SIGINT, libc::SIGTERM] {
+    for sig in SIGNALS {
         // SAFETY: installing a handler that only calls write(2).
         unsafe {
             let mut sa: libc::sigaction = std::mem::zeroed();
@@ -182,10 +199,10 @@ pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
     Ok(())
 }
 
-/// Gives SIGINT and SIGTERM their default action back (once the run's
-/// children are gone there is nothing left to end first).
+/// Gives [`SIGNALS`] their default action back (once the run's children
+/// are gone there is nothing left to end first).
 pub fn default_signals() {
-    for sig in [libc::SIGINT, libc::SIGTERM] {
+    for sig in SIGNALS {
         // SAFETY: restoring the default disposition.
         unsafe {
             libc::signal(sig, libc::SIG_DFL);

@@ -10,9 +10,12 @@
 //! world-server, wait for its `ready`; spawn the agents ([`spawn`]); follow
 //! the world's stdout (`tick K`, `fault K` → signal → `go`, `done`); read
 //! its report; reap the agents; remove every file of the run; write the
-//! outputs ([`summary`]). If the world-server dies, or SIGINT / SIGTERM
-//! arrives, every child is killed and reaped and the run's files removed
-//! before the one-line error.
+//! outputs ([`summary`]). If the world-server dies, an agent exits with an
+//! error (at start, its own line is shown at once, not after the world's
+//! hello time-out), or SIGINT, SIGTERM, SIGHUP or SIGQUIT arrives, every
+//! child is killed and reaped and the run's files removed before the
+//! one-line error. A run the open-file limit cannot hold is refused before
+//! anything starts ([`admit`]).
 
 mod files;
 mod inject;
@@ -24,6 +27,7 @@ use std::sync::mpsc::{self, Receiver};
 use std::time::{Duration, Instant};
 
 use gridswarm::ipc::{self, RunFile, RunReport};
+use gridswarm::nofile;
 use gridswarm::outcome::{RunConfig, RunResult};
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
@@ -45,6 +49,8 @@ use spawn::Processes;
 
 /// How long agents get to exit by themselves after the end.
 const AGENT_GRACE: Duration = Duration::from_secs(5);
+/// How often the orchestrator looks for agents that exited with an error.
+const AGENT_POLL: Duration = Duration::from_millis(100);
 
 #[derive(Clone, Debug)]
 pub struct RunOptions {
@@ -94,13 +100,23 @@ impl RunOptions {
     }
 }
 
-/// Runs once; returns the text for stdout.
-pub fn run(opts: &RunOptions) -> Result<String> {
+/// Runs once; returns the text for stdout and whether the search completed.
+pub fn run(opts: &RunOptions) -> Result<(String, bool)> {
     let done = perform(opts, false)?;
+    let complete = done.result.complete;
     if opts.json {
-        return Ok(format!("{}\n", serde_json::to_string(&done.summary).expect("a JSON value serialises")));
+        return Ok((format!("{}\n", serde_json::to_string(&done.summary).expect("a JSON value serialises")), complete));
     }
-    Ok(summary::text(&done.plan.scenario, &done.result, &done.report, &done.summary, &done.written))
+    Ok((summary::text(&done.plan.scenario, &done.result, &done.report, &done.summary, &done.written), complete))
+}
+
+/// Refuses a run of `robots` robots whose descriptors the open-file limit
+/// cannot hold, raising the soft limit to the hard one first if that is
+/// enough (the children inherit it). Experiments call it with their
+/// largest count before their first run.
+pub fn admit(robots: usize) -> Result<()> {
+    let what = format!("a distributed run of {robots} robots");
+    nofile::ensure(nofile::needed(robots), &what).map(|_| ()).map_err(Error::Run)
 }
 
 /// Runs once as a library call and prints nothing: returns the summary
@@ -197,6 +213,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let mut warnings: Vec<String> = Vec::new();
     let mut warn = |w: String| if quiet { warnings.push(w) } else { eprintln!("{w}") };
     let plan = plan(opts)?;
+    admit(plan.robots)?;
     let stage = opts.out.as_deref().map(Staging::begin).transpose()?;
     for w in check::warnings(&contract::check_assumptions(&plan.scenario, &plan.world, &plan.starts)) {
         warn(w);
@@ -292,8 +309,9 @@ fn follow(
     let faults = &plan.cfg.faults;
     let mut applied = vec![false; faults.len()];
     let mut round: Option<u32> = None;
+    let mut polled = Instant::now();
     loop {
-        match rx.recv() {
+        match next_event(procs, rx, round, &mut polled)? {
             Ok(Event::Line(l)) if l == "done" => break,
             Ok(Event::Line(l)) => {
                 if let Some(k) = l.strip_prefix("tick ").and_then(|k| k.parse().ok()) {
@@ -318,6 +336,48 @@ fn follow(
         }
     }
     Ok(Followed { applied, ready_ms, spawned_ms, run_ms })
+}
+
+/// The next event; an agent that exited with an error ends the run first,
+/// in its own words.
+fn next_event(
+    procs: &mut Processes,
+    rx: &Receiver<Event>,
+    round: Option<u32>,
+    polled: &mut Instant,
+) -> Result<std::result::Result<Event, mpsc::RecvError>> {
+    loop {
+        let ev = match rx.recv_timeout(AGENT_POLL.saturating_sub(polled.elapsed())) {
+            Ok(ev) => Some(Ok(ev)),
+            Err(mpsc::RecvTimeoutError::Timeout) => None,
+            Err(mpsc::RecvTimeoutError::Disconnected) => Some(Err(mpsc::RecvError)),
+        };
+        if polled.elapsed() >= AGENT_POLL {
+            *polled = Instant::now();
+            if let Some((k, status)) = procs.failed_agent() {
+                return Err(agent_failed(procs, k, status, round));
+            }
+        }
+        if let Some(ev) = ev {
+            return Ok(ev);
+        }
+    }
+}
+
+/// Ends the run on agent `k`'s error exit, with the line it printed.
+fn agent_failed(procs: &mut Processes, k: usize, status: std::process::ExitStatus, round: Option<u32>) -> Error {
+    let when = match round {
+        Some(r) => format!("in round {r}"),
+        None => "at start".into(),
+    };
+    let own = format!("robot-agent {k}: ");
+    let said = procs.agent_said(k).map(|l| {
+        let l = l.strip_prefix(&own).unwrap_or(&l);
+        format!(": {}", l.strip_prefix("error: ").unwrap_or(l))
+    });
+    procs.abort();
+    launch::default_signals();
+    Error::Run(format!("robot-agent {k} failed {when} ({}){}", launch::describe(status), said.unwrap_or_default()))
 }
 
 fn wait_ready(procs: &mut Processes, rx: &Receiver<Event>) -> Result<()> {
@@ -357,7 +417,7 @@ fn world_died(procs: &mut Processes, round: Option<u32>) -> Error {
 fn interrupted(procs: &mut Processes, sig: i32) -> Error {
     procs.abort();
     launch::default_signals();
-    let name = if sig == libc::SIGINT { "SIGINT" } else { "SIGTERM" };
+    let name = launch::signal_name(sig);
     Error::Run(format!("interrupted by {name}: stopped the world-server and every robot-agent, removed the run's shared-memory files (results written so far are kept)"))
 }
 

@@ -8,7 +8,7 @@
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, Command, Stdio};
+use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
 use std::sync::mpsc::Sender;
 
 use gridswarm::ipc;
@@ -26,11 +26,21 @@ pub struct Processes {
     pub root: PathBuf,
     /// Where the world-server's stderr goes.
     world_log: Option<PathBuf>,
+    /// Where the agents' stderr goes.
+    agent_log: Option<PathBuf>,
 }
 
 impl Processes {
     pub fn new(prefix: &str, root: PathBuf) -> Self {
-        Processes { world: None, world_in: None, agents: Vec::new(), prefix: prefix.to_string(), root, world_log: None }
+        Processes {
+            world: None,
+            world_in: None,
+            agents: Vec::new(),
+            prefix: prefix.to_string(),
+            root,
+            world_log: None,
+            agent_log: None,
+        }
     }
 
     pub fn world_pid(&self) -> u32 {
@@ -54,7 +64,9 @@ impl Processes {
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(log);
-        launch::guard(&mut cmd);
+        // It removes the run's files on SIGTERM: after a kill -9 of this
+        // process, nobody else would until the next run.
+        launch::guard(&mut cmd, libc::SIGTERM);
         let mut child =
             cmd.spawn().map_err(|e| Error::Run(format!("cannot start {}: {e}", bin.display())))?;
         self.world_in = child.stdin.take();
@@ -69,6 +81,7 @@ impl Processes {
     pub fn start_agents(&mut self, bin: &Path, files: &RunFiles, robots: usize) -> Result<()> {
         let log_path = files.agent_log();
         let log = fs::File::create(&log_path).map_err(Error::write(&log_path))?;
+        self.agent_log = Some(log_path.clone());
         let world_pid = self.world_pid();
         for i in 0..robots {
             let mut cmd = Command::new(bin);
@@ -81,7 +94,7 @@ impl Processes {
                 .stdin(Stdio::null())
                 .stdout(Stdio::null())
                 .stderr(log.try_clone().map_err(Error::write(&log_path))?);
-            launch::guard(&mut cmd);
+            launch::guard(&mut cmd, libc::SIGKILL);
             let child = cmd.spawn().map_err(|e| Error::Run(format!("cannot start robot-agent {i}: {e}")))?;
             self.agents.push(child);
         }
@@ -92,6 +105,25 @@ impl Processes {
     pub fn world_said(&self) -> Vec<String> {
         let text = self.world_log.as_ref().and_then(|p| fs::read_to_string(p).ok()).unwrap_or_default();
         text.lines().filter(|l| !l.trim().is_empty()).map(str::to_string).collect()
+    }
+
+    /// The first agent found to have exited with an error status (neither
+    /// 0, `End`, nor [`ipc::EXIT_WORLD_GONE`]; a signal is a fault or a
+    /// death the world finds by itself): its number and how it ended.
+    pub fn failed_agent(&mut self) -> Option<(usize, ExitStatus)> {
+        self.agents.iter_mut().enumerate().find_map(|(k, c)| match c.try_wait() {
+            Ok(Some(st)) if st.code().is_some_and(|c| c != 0 && c != ipc::EXIT_WORLD_GONE) => Some((k, st)),
+            _ => None,
+        })
+    }
+
+    /// What agent `k` said: its own line in the agents' log (ours start
+    /// `robot-agent K`), else the log's first line (another program's).
+    pub fn agent_said(&self, k: usize) -> Option<String> {
+        let text = self.agent_log.as_ref().and_then(|p| fs::read_to_string(p).ok()).unwrap_or_default();
+        let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+        let own = format!("robot-agent {k}:");
+        text.lines().find(|l| l.starts_with(&own)).or_else(|| lines.next()).map(str::to_string)
     }
 
     /// Tells the paused world to go on; false if it is gone.

@@ -1,0 +1,98 @@
+//! Exit statuses of `gridswarm`, through the binary: 0 a search that
+//! completed, 3 one that ended incomplete (every robot failed, or the round
+//! limit), 1 an error, 2 a usage error; and an agent that fails at start
+//! ends the run at once with its own words.
+
+use std::fs;
+use std::os::unix::fs::PermissionsExt;
+use std::process::Output;
+use std::time::{Duration, Instant};
+
+use gridswarm_e2e::*;
+
+fn status(args: &[&str]) -> (Option<i32>, Output) {
+    let out = gridswarm().args(args).output().expect("gridswarm runs");
+    (out.status.code(), out)
+}
+
+#[test]
+fn a_search_exits_0_complete_and_3_incomplete_in_both_engines() {
+    let _s = serial();
+    let all_killed = ["--robots", "3", "--seed", "2", "--kill", "0@1", "--kill", "1@1", "--kill", "2@1+0.5"];
+    let cut_off = ["--robots", "3", "--seed", "2", "--max-rounds", "2"];
+    let complete = ["--robots", "3", "--seed", "2"];
+    for cmd in ["simulate", "run"] {
+        for (args, want, ended_by) in [(&complete[..], 0, "stop"), (&all_killed[..], 3, "no_robots"), (&cut_off[..], 3, "max_rounds")] {
+            let all = [&[cmd, "--json"][..], args].concat();
+            let (code, out) = status(&all);
+            assert_eq!(code, Some(want), "{all:?}: {}", text(&out.stderr));
+            let v = finished(&out, &all);
+            assert_eq!(v["ended_by"], ended_by, "{all:?}");
+            if cmd == "run" {
+                assert_no_leftovers(v["ipc_prefix"].as_str().unwrap());
+            }
+        }
+    }
+}
+
+#[test]
+fn errors_exit_1_and_usage_errors_2() {
+    let cases: &[(&[&str], i32)] = &[
+        (&["run", "--scenario", "no-such-scenario"], 1),
+        (&["simulate", "--scenario", "no-such-scenario"], 1),
+        (&["run", "--robots", "0"], 2),
+        (&["simulate", "--robots", "3", "--kill", "3@2"], 2),
+        (&["run", "--no-such-flag"], 2),
+    ];
+    for &(args, want) in cases {
+        let (code, out) = status(args);
+        assert_eq!(code, Some(want), "{args:?}: {}", text(&out.stderr));
+        assert!(text(&out.stderr).starts_with("error: "), "{args:?}: {}", text(&out.stderr));
+    }
+}
+
+#[test]
+fn the_help_lists_the_exit_statuses() {
+    let (code, out) = status(&["--help"]);
+    assert_eq!(code, Some(0));
+    let help = text(&out.stdout);
+    let table = &help[help.find("Exit status:").expect("an exit status section")..];
+    for line in ["0  success", "1  error", "2  usage error", "3  the search ended incomplete"] {
+        assert!(table.contains(line), "no {line:?} in {table}");
+    }
+}
+
+#[test]
+fn an_agent_that_fails_at_start_ends_the_run_at_once_with_its_error() {
+    let _s = serial();
+    // An agent program that lists its rules, then cannot start.
+    let bin = scratch("failing-agent");
+    let agent = bin.join("agent");
+    fs::write(
+        &agent,
+        "#!/bin/sh\nif [ \"$1\" = --list-rules ]; then echo repulsive; exit 0; fi\n\
+         echo \"my-agent: cannot start: no licence\" >&2\nexit 1\n",
+    )
+    .unwrap();
+    fs::set_permissions(&agent, fs::Permissions::from_mode(0o755)).unwrap();
+    let t = Instant::now();
+    let child = gridswarm()
+        .args(["run", "--robots", "5", "--agent-bin"])
+        .arg(&agent)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let prefixes = format!("gs{}x", child.id());
+    let out = child.wait_with_output().unwrap();
+    let took = t.elapsed();
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    let (head, tail) = err.trim_end().split_once(" failed at start (exit status 1): ").unwrap_or_else(|| panic!("{err}"));
+    assert!(head.starts_with("error: robot-agent "), "{err}");
+    assert_eq!(tail, "my-agent: cannot start: no licence");
+    // Not the world's hello time-out (30 s).
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    assert_no_leftovers(&prefixes);
+}

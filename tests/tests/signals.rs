@@ -1,0 +1,50 @@
+//! Signals that end a distributed run: SIGINT, SIGTERM, SIGHUP (a closed
+//! terminal) and SIGQUIT end every child and remove every file of the run;
+//! a `kill -9` of `gridswarm`, which nothing can catch, still leaves
+//! nothing behind: the children die with it (`PR_SET_PDEATHSIG`) and the
+//! world-server removes the run's files on its way out.
+
+use std::time::Duration;
+
+use gridswarm_e2e::*;
+
+#[test]
+fn every_terminal_signal_ends_every_child_and_removes_the_runs_files() {
+    let _s = serial();
+    let cases = [(libc::SIGINT, "SIGINT"), (libc::SIGTERM, "SIGTERM"), (libc::SIGHUP, "SIGHUP"), (libc::SIGQUIT, "SIGQUIT")];
+    for (sig, name) in cases {
+        let (child, world, agents, prefix) = stalled_run();
+        assert!(!leftover_files(&prefix).is_empty(), "a live run has files");
+        signal(child.id(), sig);
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(out.status.code(), Some(1), "{name}: {:?}", out.status);
+        let err = text(&out.stderr);
+        assert_eq!(err.lines().count(), 1, "one line: {err}");
+        assert!(err.starts_with(&format!("error: interrupted by {name}: stopped the world-server")), "{err}");
+        let mut pids = agents;
+        pids.push(world);
+        assert_all_gone(&pids, &prefix);
+    }
+}
+
+#[test]
+fn a_killed_orchestrator_leaves_no_process_and_no_file() {
+    let _s = serial();
+    let (mut child, world, agents, prefix) = stalled_run();
+    assert!(!temp_files(&prefix).is_empty() && !leftover_files(&prefix).is_empty());
+    signal(child.id(), libc::SIGKILL);
+    let _ = child.wait();
+    let mut pids = agents;
+    pids.push(world);
+    // PR_SET_PDEATHSIG: the agents die with it; the world gets SIGTERM and
+    // removes the run's files, the agents' included, and the
+    // orchestrator's temporary directory: no later run is needed.
+    assert!(wait_until(Duration::from_secs(5), || pids.iter().all(|&p| !alive(p))), "children outlived the orchestrator");
+    assert!(
+        wait_until(Duration::from_secs(5), || leftover_files(&prefix).is_empty() && temp_files(&prefix).is_empty()),
+        "left: {:?} {:?}",
+        leftover_files(&prefix),
+        temp_files(&prefix)
+    );
+    assert_no_leftovers(&prefix);
+}
