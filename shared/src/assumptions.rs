@@ -234,22 +234,30 @@ fn pockets(w: &World, va: &[bool]) -> Check {
 fn passages(w: &World) -> Check {
     let p = &w.params;
     let w_pass = p.a + 2.0 * p.r_safe;
-    let mut found: Vec<(String, scenario::Gap)> = Vec::new();
+    let wide = 3.0 * p.a + TOL;
+    let passage = |g: &scenario::Gap| g.width > 0.0 && g.width <= wide;
+    // Named only when shown: the pairs are quadratic in the obstacles.
+    let mut found: Vec<(Between, scenario::Gap)> = Vec::new();
+    let boxes: Vec<_> = w.obstacles.iter().map(Shape::bounding_box).collect();
     for (i, o) in w.obstacles.iter().enumerate() {
         for (j, q) in w.obstacles.iter().enumerate().skip(i + 1) {
-            found.push((format!("obstacles[{i}] and obstacles[{j}]"), scenario::shape_gap(o, q)));
+            // The boxes' distance bounds the gap from below: a pair whose
+            // boxes are farther apart than 3a has no passage between them.
+            if scenario::box_distance(&boxes[i], &boxes[j]) <= wide {
+                found.push((Between::Obstacles(i, j), scenario::shape_gap(o, q)));
+            }
         }
-        found.push((format!("obstacles[{i}] and the area boundary"), scenario::boundary_gap(&w.area, o)));
+        found.push((Between::Boundary(i), scenario::boundary_gap(&w.area, o)));
         if let Shape::Polygon(poly) = o {
             for (x, y, g) in scenario::self_passages(poly, false) {
-                found.push((format!("edges {x} and {y} of obstacles[{i}]"), g));
+                found.push((Between::ObstacleEdges(i, x, y), g));
             }
         }
     }
     for (x, y, g) in scenario::self_passages(&w.area, true) {
-        found.push((format!("area edges {x} and {y}"), g));
+        found.push((Between::AreaEdges(x, y), g));
     }
-    found.retain(|(_, g)| g.width > 0.0 && g.width <= 3.0 * p.a + TOL);
+    found.retain(|(_, g)| passage(g));
     let title = "passages at least W_pass = a + 2 r_safe wide";
     let narrowest = found.iter().min_by(|a, b| a.1.width.total_cmp(&b.1.width));
     match narrowest {
@@ -276,6 +284,26 @@ fn passages(w: &World) -> Check {
                     w_pass
                 ),
             }
+        }
+    }
+}
+
+/// The two sides of a passage.
+#[derive(Clone, Copy, Debug)]
+enum Between {
+    Obstacles(usize, usize),
+    Boundary(usize),
+    ObstacleEdges(usize, usize, usize),
+    AreaEdges(usize, usize),
+}
+
+impl fmt::Display for Between {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Between::Obstacles(i, j) => write!(f, "obstacles[{i}] and obstacles[{j}]"),
+            Between::Boundary(i) => write!(f, "obstacles[{i}] and the area boundary"),
+            Between::ObstacleEdges(i, x, y) => write!(f, "edges {x} and {y} of obstacles[{i}]"),
+            Between::AreaEdges(x, y) => write!(f, "area edges {x} and {y}"),
         }
     }
 }

@@ -59,7 +59,7 @@ mod raw;
 mod starts;
 mod write;
 
-pub(crate) use gaps::{boundary_gap, self_passages, shape_gap, Gap};
+pub(crate) use gaps::{boundary_gap, box_distance, self_passages, shape_gap, Gap};
 
 use crate::geometry::{Point, Polygon, Shape};
 use crate::grid::VertexId;

@@ -4,14 +4,18 @@
 //! quickly. The files are in `fixtures/hostile/`; each says what it expects
 //! on a line `# expect: FIELD | LIMIT | VALUE`. The big ones are made here.
 
+#[path = "common/cpu.rs"]
+mod cpu;
+
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use gridswarm::scenario::limits;
 use gridswarm::scenario::{Scenario, ScenarioError};
 
-/// Far above what refusing a file takes (microseconds to milliseconds),
-/// far below the seconds to hours the same files took before the limits.
+/// CPU time: far above what refusing a file takes (microseconds to a few
+/// hundred milliseconds for a megabyte of TOML), far below the seconds to
+/// hours the same files took before the limits.
 const QUICK: Duration = Duration::from_secs(2);
 
 fn fixtures() -> Vec<PathBuf> {
@@ -38,9 +42,7 @@ fn expectation(text: &str, file: &Path) -> (String, String, String) {
 
 /// Parses `text`, expecting a refusal within [`QUICK`].
 fn refused(text: &str, source: &str) -> ScenarioError {
-    let start = Instant::now();
-    let result = Scenario::parse(text, source);
-    let took = start.elapsed();
+    let (result, took) = cpu::timed(|| Scenario::parse(text, source));
     assert!(took < QUICK, "{source}: took {took:?} to answer");
     match result {
         Ok(s) => panic!("{source}: accepted ({} obstacles, a = {})", s.obstacles.len(), s.params.a),
@@ -162,8 +164,44 @@ fn a_sample_of_the_largest_admitted_map_is_read_quickly() {
     // Right under MAX_FRAME_VERTICES: reading (not building) stays instant.
     let side = 900.0;
     let text = format!("targets = [[5, 5]]\n[area]\npolygon = [[0, 0], [{side}, 0], [{side}, {side}], [0, {side}]]\n");
-    let start = Instant::now();
-    let s = Scenario::parse(&text, "big.toml").unwrap();
-    assert!(start.elapsed() < QUICK);
+    let (s, took) = cpu::timed(|| Scenario::parse(&text, "big.toml").unwrap());
+    assert!(took < QUICK, "{took:?}");
     limits::admit(&s).unwrap();
+}
+
+#[test]
+fn the_scenario_reference_lists_every_limit_with_its_value() {
+    let doc = include_str!("../../docs/scenario-format.md");
+    let floats = [
+        ("MAX_COORD", limits::MAX_COORD),
+        ("MIN_A", limits::MIN_A),
+        ("MAX_A", limits::MAX_A),
+        ("MAX_SENSING_SIDES", limits::MAX_SENSING_SIDES),
+        ("MAX_RADIO_SIDES", limits::MAX_RADIO_SIDES),
+        ("MIN_TIME", limits::MIN_TIME),
+        ("MAX_TIME", limits::MAX_TIME),
+        ("MAX_FRAME_VERTICES", limits::MAX_FRAME_VERTICES),
+        ("MAX_RASTER_CELLS", limits::MAX_RASTER_CELLS),
+        ("MAX_VERTEX_WORK", limits::MAX_VERTEX_WORK),
+        ("MAX_ROBOT_VERTICES", limits::MAX_ROBOT_VERTICES),
+        ("MAX_LFP_GAIN", limits::MAX_LFP_GAIN),
+        ("MAX_FLIGHT_SIDES", limits::MAX_FLIGHT_SIDES),
+        ("MAX_TURN_SIGMA", limits::MAX_TURN_SIGMA),
+    ];
+    let counts = [
+        ("MAX_CORNERS", limits::MAX_CORNERS),
+        ("MAX_TOTAL_CORNERS", limits::MAX_TOTAL_CORNERS),
+        ("MAX_OBSTACLES", limits::MAX_OBSTACLES),
+        ("MAX_TARGETS", limits::MAX_TARGETS),
+        ("MAX_ROBOTS", limits::MAX_ROBOTS),
+        ("MAX_MICRO_STEPS", limits::MAX_MICRO_STEPS as usize),
+    ];
+    let rows = floats.iter().map(|(n, v)| (*n, limits::show(*v))).chain(counts.iter().map(|(n, v)| (*n, v.to_string())));
+    for (name, value) in rows {
+        let row = format!("| `{name}` | {value} |");
+        assert!(doc.contains(&row), "docs/scenario-format.md has no row {row}");
+    }
+    // And no row for a constant that does not exist.
+    let listed = doc.lines().filter(|l| l.starts_with("| `M")).count();
+    assert_eq!(listed, floats.len() + counts.len());
 }

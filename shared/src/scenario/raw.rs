@@ -374,6 +374,7 @@ impl RawScenario {
         let params = std::mem::take(&mut self.params).into_params(ctx)?;
         check_lfp(ctx, &self.lfp)?;
         let mut obstacles: Vec<Shape> = Vec::with_capacity(self.obstacles.len());
+        let mut boxes = Vec::with_capacity(self.obstacles.len());
         for (k, raw) in self.obstacles.into_iter().enumerate() {
             let field = format!("obstacles[{k}]");
             let shape = raw.into_shape(ctx, &field)?;
@@ -386,13 +387,17 @@ impl RawScenario {
                 };
                 return Err(ctx.err(field, format!("must lie inside the area, clear of its boundary, but {why}")));
             }
-            for (j, other) in obstacles.iter().enumerate() {
-                let g = gaps::shape_gap(other, &shape);
+            let bx = shape.bounding_box();
+            // Boxes apart by any distance: the shapes cannot meet.
+            let near = boxes.iter().enumerate().filter(|(_, b)| gaps::box_distance(b, &bx) == 0.0);
+            for (j, _) in near {
+                let g = gaps::shape_gap(&obstacles[j], &shape);
                 if g.width == 0.0 {
                     return Err(ctx.err(field, format!("overlaps or touches obstacles[{j}] near {}", fmt_xy(g.a))));
                 }
             }
             obstacles.push(shape);
+            boxes.push(bx);
         }
 
         let mut targets = Vec::with_capacity(self.targets.len());
