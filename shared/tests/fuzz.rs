@@ -62,17 +62,34 @@ const INT_EXTREMES: &[i64] = &[0, -1, 1, 2, 1000, 10_001, 100_001, 4_000_000_000
 #[derive(Clone, Debug)]
 enum Mutation {
     /// The `pick`-th number (mod their count) becomes an extreme.
-    Float { pick: usize, value: usize },
-    Int { pick: usize, value: usize },
+    Float {
+        pick: usize,
+        value: usize,
+    },
+    Int {
+        pick: usize,
+        value: usize,
+    },
     /// The `pick`-th key or array element disappears.
-    Delete { pick: usize },
+    Delete {
+        pick: usize,
+    },
     /// The `pick`-th array gets its first element `times` more times.
-    Repeat { pick: usize, times: usize },
+    Repeat {
+        pick: usize,
+        times: usize,
+    },
     /// The `pick`-th value becomes a string.
-    Retype { pick: usize },
+    Retype {
+        pick: usize,
+    },
     /// The text: a line said twice (a duplicate key), or cut short.
-    DuplicateLine { pick: usize },
-    Truncate { at: usize },
+    DuplicateLine {
+        pick: usize,
+    },
+    Truncate {
+        at: usize,
+    },
 }
 
 fn mutation() -> impl Strategy<Value = Mutation> {
@@ -296,9 +313,19 @@ fn frame() -> impl Strategy<Value = Frame> {
     prop_oneof![
         (round(), from(), v(), any::<bool>(), any::<bool>(), map())
             .prop_map(|(round, from, at, halted, stop, map)| Frame::Map { round, from, at, halted, stop, map }),
-        (round(), from(), v(), v(), robots())
-            .prop_map(|(round, from, at, next, accounted)| Frame::Choice { round, from, at, next, accounted }),
-        (round(), from(), robots(), robots()).prop_map(|(round, from, acked, refused)| Frame::Ack { round, from, acked, refused }),
+        (round(), from(), v(), v(), robots()).prop_map(|(round, from, at, next, accounted)| Frame::Choice {
+            round,
+            from,
+            at,
+            next,
+            accounted
+        }),
+        (round(), from(), robots(), robots()).prop_map(|(round, from, acked, refused)| Frame::Ack {
+            round,
+            from,
+            acked,
+            refused
+        }),
         (round(), from(), any::<bool>()).prop_map(|(round, from, moving)| Frame::Commit { round, from, moving }),
         (round(), from(), prop::collection::vec(0u32..9, 0..5), any::<bool>())
             .prop_map(|(round, from, targets, stop)| Frame::Flood { round, from, targets, stop }),
@@ -338,7 +365,8 @@ fn note() -> impl Strategy<Value = Note> {
 
 /// Any agent-to-world message inside [`WIRE_LIMITS`].
 fn to_world() -> impl Strategy<Value = ToWorld> {
-    let send = (bytes(300), any::<u64>(), any::<u8>()).prop_map(|(bytes, ready, copies)| WireSend { bytes, ready, copies });
+    let send =
+        (bytes(300), any::<u64>(), any::<u8>()).prop_map(|(bytes, ready, copies)| WireSend { bytes, ready, copies });
     let motor = prop_oneof![(0u32..100).prop_map(Motor::Go), Just(Motor::Halt)];
     prop_oneof![
         (0u32..13, any::<u32>()).prop_map(|(robot, pid)| ToWorld::Hello { robot, pid }),

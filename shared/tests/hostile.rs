@@ -133,7 +133,9 @@ fn every_range_and_time_has_a_finite_sane_bound() {
         assert_eq!(e.field, format!("params.{key}"), "{e}");
         assert!(e.message.contains("MAX_") || e.message.contains("MIN_"), "{e}");
     }
-    for (key, bad) in [("scale", "1e300"), ("max_step", "1e300"), ("turn", "1e300"), ("max_steer", "nan"), ("micro_steps", "0")] {
+    for (key, bad) in
+        [("scale", "1e300"), ("max_step", "1e300"), ("turn", "1e300"), ("max_steer", "nan"), ("micro_steps", "0")]
+    {
         let e = refused(&format!("{base}[lfp]\n{key} = {bad}\n"), "l.toml");
         assert_eq!(e.field, format!("lfp.{key}"), "{e}");
     }
@@ -196,7 +198,8 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         ("MAX_ROBOTS", limits::MAX_ROBOTS),
         ("MAX_MICRO_STEPS", limits::MAX_MICRO_STEPS as usize),
     ];
-    let rows = floats.iter().map(|(n, v)| (*n, limits::show(*v))).chain(counts.iter().map(|(n, v)| (*n, v.to_string())));
+    let rows =
+        floats.iter().map(|(n, v)| (*n, limits::show(*v))).chain(counts.iter().map(|(n, v)| (*n, v.to_string())));
     for (name, value) in rows {
         let row = format!("| `{name}` | {value} |");
         assert!(doc.contains(&row), "docs/scenario-format.md has no row {row}");

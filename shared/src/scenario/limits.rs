@@ -221,7 +221,8 @@ mod tests {
         for kind in LatticeKind::ALL {
             for (w, h, a) in [(20.0, 16.0, 1.0), (7.3, 2.9, 0.37), (1.0, 1.0, 3.0)] {
                 let e = Extent { width: w, height: h, a, kind };
-                let built = Lattice::new(kind, a).coords_in_box(Point::new(0.1, 0.2), Point::new(0.1 + w, 0.2 + h)).len();
+                let built =
+                    Lattice::new(kind, a).coords_in_box(Point::new(0.1, 0.2), Point::new(0.1 + w, 0.2 + h)).len();
                 assert!(built as f64 <= e.frame_vertices(), "{kind:?} {w}x{h} a={a}: {built} > {}", e.frame_vertices());
                 assert!(e.frame_vertices() <= 2.0 * built as f64 + 8.0, "{kind:?} {w}x{h}: loose bound");
             }

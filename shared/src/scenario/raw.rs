@@ -346,7 +346,8 @@ fn check_lfp_limits(ctx: &Ctx, l: &LfpParams) -> Result<(), ScenarioError> {
     }
     if !(1..=limits::MAX_MICRO_STEPS).contains(&l.micro_steps) {
         let max = limits::MAX_MICRO_STEPS;
-        return Err(ctx.err("lfp.micro_steps", format!("must be from 1 to MAX_MICRO_STEPS = {max}, got {}", l.micro_steps)));
+        let got = l.micro_steps;
+        return Err(ctx.err("lfp.micro_steps", format!("must be from 1 to MAX_MICRO_STEPS = {max}, got {got}")));
     }
     Ok(())
 }

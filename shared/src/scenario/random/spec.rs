@@ -214,9 +214,11 @@ impl Spec {
     /// map drawn is checked again, obstacles included ([`crate::scenario::limits::admit`]).
     fn admit(&self, text: &str) -> Result<(), ScenarioError> {
         let a = Params::default().a;
-        let extent = Extent { width: self.size.0 + 2.0 * a, height: self.size.1 + 2.0 * a, a, kind: LatticeKind::Triangular };
-        limits::check_size(&extent, self.targets).map_err(|m| ScenarioError::new(text, None, "size", m))?;
-        limits::check_robots(self.robots, extent.frame_vertices()).map_err(|m| ScenarioError::new(text, None, "robots", m))
+        let (width, height) = (self.size.0 + 2.0 * a, self.size.1 + 2.0 * a);
+        let extent = Extent { width, height, a, kind: LatticeKind::Triangular };
+        let err = |field: &'static str| move |m: String| ScenarioError::new(text, None, field, m);
+        limits::check_size(&extent, self.targets).map_err(err("size"))?;
+        limits::check_robots(self.robots, extent.frame_vertices()).map_err(err("robots"))
     }
 
     /// The passage width, checked against `W_pass`: a map asked to hold
