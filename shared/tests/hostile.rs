@@ -93,7 +93,7 @@ fn a_hundred_thousand_corner_area_is_refused_at_once() {
     let text = many_corners(100_000);
     let e = refused(&text, "corners.toml");
     assert_eq!(e.field, "area.polygon");
-    assert!(e.message.contains("100000") && e.message.contains("MAX_CORNERS = 10000"), "{e}");
+    assert!(e.message.contains("100000") && e.message.contains("MAX_CORNERS = 1000"), "{e}");
 }
 
 #[test]
@@ -108,6 +108,13 @@ fn counts_beyond_their_limits_are_refused() {
     let e = refused(&format!("{square}{}", one.repeat(limits::MAX_OBSTACLES + 1)), "obstacles.toml");
     assert_eq!(e.field, "obstacles");
     assert!(e.message.contains("MAX_OBSTACLES = 20000"), "{e}");
+
+    // Fine apart, too much together: 937,000 vertices each tested against 5000 targets.
+    let big = "[area]\npolygon = [[0, 0], [900, 0], [900, 900], [0, 900]]\n";
+    let targets: Vec<String> = (0..5000).map(|k| format!("[{}, 1]", 1 + k % 890)).collect();
+    let e = refused(&format!("targets = [{}]\n{big}", targets.join(",")), "work.toml");
+    assert_eq!(e.field, "area.polygon");
+    assert!(e.message.contains("MAX_VERTEX_WORK = 4e9"), "{e}");
 
     let e = refused(&format!("robots = 100001\n{square}"), "robots.toml");
     assert_eq!(e.field, "robots");
@@ -197,6 +204,7 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         ("MAX_TARGETS", limits::MAX_TARGETS),
         ("MAX_ROBOTS", limits::MAX_ROBOTS),
         ("MAX_MICRO_STEPS", limits::MAX_MICRO_STEPS as usize),
+        ("AREA_CORNER_WEIGHT", limits::AREA_CORNER_WEIGHT),
     ];
     let rows =
         floats.iter().map(|(n, v)| (*n, limits::show(*v))).chain(counts.iter().map(|(n, v)| (*n, v.to_string())));
@@ -205,6 +213,6 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         assert!(doc.contains(&row), "docs/scenario-format.md has no row {row}");
     }
     // And no row for a constant that does not exist.
-    let listed = doc.lines().filter(|l| l.starts_with("| `M")).count();
+    let listed = doc.lines().filter(|l| l.starts_with("| `M") || l.starts_with("| `AREA")).count();
     assert_eq!(listed, floats.len() + counts.len());
 }

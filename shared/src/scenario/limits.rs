@@ -40,10 +40,12 @@ pub const MIN_TIME: f64 = 1e-6;
 /// search time NaN).
 pub const MAX_TIME: f64 = 3600.0;
 /// Corners of one polygon (area or obstacle): simplicity and the passages
-/// across a polygon's own concavities are quadratic in them.
-pub const MAX_CORNERS: usize = 10_000;
-/// Corners of the area and every polygon obstacle together.
-pub const MAX_TOTAL_CORNERS: usize = 200_000;
+/// across a polygon's own concavities are quadratic in them, and every
+/// vertex is tested against every edge of the area.
+pub const MAX_CORNERS: usize = 1000;
+/// Corners of the area and every polygon obstacle together (a 400 x 400 m
+/// random map has some 30,000).
+pub const MAX_TOTAL_CORNERS: usize = 100_000;
 /// Obstacles (a 400 x 400 m random map holds several thousand).
 pub const MAX_OBSTACLES: usize = 20_000;
 /// Targets.
@@ -55,10 +57,15 @@ pub const MAX_ROBOTS: usize = 100_000;
 pub const MAX_FRAME_VERTICES: f64 = 1e6;
 /// Cells of the coverage raster (side `a / 10` over the area's bounding box).
 pub const MAX_RASTER_CELLS: f64 = 1.5e8;
-/// Frame vertices times (area corners + obstacles + targets): the world
-/// tests every vertex against the area's boundary, every obstacle's bounding
-/// box and every target.
+/// Frame vertices times (AREA_CORNER_WEIGHT x area corners + obstacles +
+/// targets): the world tests every vertex against every edge of the area
+/// (containment, clearance, and the six edges from it), every obstacle's
+/// bounding box and every target. At the limit `check` takes about a minute
+/// of CPU (World::new scans every obstacle for every vertex).
 pub const MAX_VERTEX_WORK: f64 = 4e9;
+/// What one area corner costs per vertex against one obstacle (measured:
+/// about 240 ns against 12 ns).
+pub const AREA_CORNER_WEIGHT: usize = 20;
 /// Robots times frame vertices: every robot's map holds about 1.25 bytes
 /// per frame vertex.
 pub const MAX_ROBOT_VERTICES: f64 = 4e8;
@@ -137,9 +144,13 @@ pub(crate) fn within(v: f64, lo: f64, hi: f64, why: &str) -> Result<f64, String>
     }
 }
 
+/// What every vertex is tested against, in [`MAX_VERTEX_WORK`]'s units.
+pub fn pieces(area_corners: usize, obstacles: usize, targets: usize) -> usize {
+    AREA_CORNER_WEIGHT * area_corners + obstacles + targets
+}
+
 /// The size limits of one area at one grid: frame vertices, raster cells,
-/// and the work they multiply; `pieces` is area corners + obstacles +
-/// targets.
+/// and the work they multiply; `pieces` comes from [`pieces`].
 pub fn check_size(e: &Extent, pieces: usize) -> Result<(), String> {
     let frame = e.frame_vertices();
     let at = format!("the area's {} x {} m bounding box at a = {} m", e.width, e.height, e.a);
@@ -158,8 +169,8 @@ pub fn check_size(e: &Extent, pieces: usize) -> Result<(), String> {
     let work = frame * pieces as f64;
     if work > MAX_VERTEX_WORK {
         return Err(format!(
-            "{frame:.0} frame vertices times {pieces} area corners, obstacles and targets = {work:.3e}, above the \
-             limit MAX_VERTEX_WORK = {MAX_VERTEX_WORK:.0e}"
+            "{frame:.0} frame vertices times {pieces} (area corners x {AREA_CORNER_WEIGHT} + obstacles + targets) = \
+             {work:.3e}, above the limit MAX_VERTEX_WORK = {MAX_VERTEX_WORK:.0e}"
         ));
     }
     Ok(())
@@ -205,7 +216,7 @@ pub fn admit(s: &Scenario) -> Result<(), ScenarioError> {
     }
     let (lo, hi) = s.area.bounding_box();
     let extent = Extent { width: hi.x - lo.x, height: hi.y - lo.y, a: s.params.a, kind: s.grid };
-    let pieces = s.area.points.len() + s.obstacles.len() + s.targets.len();
+    let pieces = pieces(s.area.points.len(), s.obstacles.len(), s.targets.len());
     check_size(&extent, pieces).map_err(|m| err("area.polygon", m))?;
     check_robots(s.robots, extent.frame_vertices()).map_err(|m| err("robots", m))
 }
@@ -243,7 +254,7 @@ mod tests {
         // size=400x400 at a = 1, up to 1000 robots and targets, thousands
         // of obstacles (random/spec.rs bounds its options by these).
         let e = Extent { width: 402.0, height: 402.0, a: 1.0, kind: LatticeKind::Triangular };
-        check_size(&e, 200 + 10_000 + 1000).unwrap();
+        check_size(&e, pieces(60, 10_000, 1000)).unwrap();
         check_robots(1000, e.frame_vertices()).unwrap();
         check_robots(10_000, 40_000.0).unwrap();
         assert!(check_robots(5000, e.frame_vertices()).unwrap_err().contains("MAX_ROBOT_VERTICES"));

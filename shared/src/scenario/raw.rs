@@ -451,7 +451,7 @@ impl RawScenario {
         }
         let (lo, hi) = area.bounding_box();
         let extent = Extent { width: hi.x - lo.x, height: hi.y - lo.y, a, kind: grid };
-        let pieces = area.points.len() + self.obstacles.len() + self.targets.len();
+        let pieces = limits::pieces(area.points.len(), self.obstacles.len(), self.targets.len());
         // Blame `a` when the file chose a finer grid than the default.
         let field = if a < Params::default().a { "params.a" } else { "area.polygon" };
         limits::check_size(&extent, pieces).map_err(|m| ctx.err(field, m))?;

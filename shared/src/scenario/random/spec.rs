@@ -217,7 +217,7 @@ impl Spec {
         let (width, height) = (self.size.0 + 2.0 * a, self.size.1 + 2.0 * a);
         let extent = Extent { width, height, a, kind: LatticeKind::Triangular };
         let err = |field: &'static str| move |m: String| ScenarioError::new(text, None, field, m);
-        limits::check_size(&extent, self.targets).map_err(err("size"))?;
+        limits::check_size(&extent, limits::pieces(4, 0, self.targets)).map_err(err("size"))?;
         limits::check_robots(self.robots, extent.frame_vertices()).map_err(err("robots"))
     }
 
