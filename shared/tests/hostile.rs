@@ -116,9 +116,9 @@ fn counts_beyond_their_limits_are_refused() {
     assert_eq!(e.field, "area.polygon");
     assert!(e.message.contains("MAX_VERTEX_WORK = 4e9"), "{e}");
 
-    let e = refused(&format!("robots = 100001\n{square}"), "robots.toml");
+    let e = refused(&format!("robots = 65536\n{square}"), "robots.toml");
     assert_eq!(e.field, "robots");
-    assert!(e.message.contains("MAX_ROBOTS = 100000"), "{e}");
+    assert!(e.message.contains("MAX_ROBOTS = 65535"), "{e}");
 }
 
 #[test]

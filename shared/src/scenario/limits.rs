@@ -50,8 +50,9 @@ pub const MAX_TOTAL_CORNERS: usize = 100_000;
 pub const MAX_OBSTACLES: usize = 20_000;
 /// Targets.
 pub const MAX_TARGETS: usize = 10_000;
-/// Robots, from the file or the command line.
-pub const MAX_ROBOTS: usize = 100_000;
+/// Robots, from the file or the command line: a robot id is 16 bits on the
+/// radio ([`crate::protocol::MAX_ROBOTS`]).
+pub const MAX_ROBOTS: usize = crate::protocol::MAX_ROBOTS;
 /// Lattice vertices in the frame, the area's bounding box (counted from its
 /// extent and `a`, before any is made).
 pub const MAX_FRAME_VERTICES: f64 = 1e6;
@@ -258,6 +259,6 @@ mod tests {
         check_robots(1000, e.frame_vertices()).unwrap();
         check_robots(10_000, 40_000.0).unwrap();
         assert!(check_robots(5000, e.frame_vertices()).unwrap_err().contains("MAX_ROBOT_VERTICES"));
-        assert!(check_robots(MAX_ROBOTS + 1, 10.0).unwrap_err().contains("MAX_ROBOTS = 100000"));
+        assert!(check_robots(MAX_ROBOTS + 1, 10.0).unwrap_err().contains("MAX_ROBOTS = 65535"));
     }
 }
