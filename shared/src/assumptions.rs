@@ -234,22 +234,30 @@ fn pockets(w: &World, va: &[bool]) -> Check {
 fn passages(w: &World) -> Check {
     let p = &w.params;
     let w_pass = p.a + 2.0 * p.r_safe;
-    let mut found: Vec<(String, scenario::Gap)> = Vec::new();
+    let wide = 3.0 * p.a + TOL;
+    let passage = |g: &scenario::Gap| g.width > 0.0 && g.width <= wide;
+    // Named only when shown: the pairs are quadratic in the obstacles.
+    let mut found: Vec<(Between, scenario::Gap)> = Vec::new();
+    let boxes: Vec<_> = w.obstacles.iter().map(Shape::bounding_box).collect();
     for (i, o) in w.obstacles.iter().enumerate() {
         for (j, q) in w.obstacles.iter().enumerate().skip(i + 1) {
-            found.push((format!("obstacles[{i}] and obstacles[{j}]"), scenario::shape_gap(o, q)));
+            // The boxes' distance bounds the gap from below: a pair whose
+            // boxes are farther apart than 3a has no passage between them.
+            if scenario::box_distance(&boxes[i], &boxes[j]) <= wide {
+                found.push((Between::Obstacles(i, j), scenario::shape_gap(o, q)));
+            }
         }
-        found.push((format!("obstacles[{i}] and the area boundary"), scenario::boundary_gap(&w.area, o)));
+        found.push((Between::Boundary(i), scenario::boundary_gap(&w.area, o)));
         if let Shape::Polygon(poly) = o {
             for (x, y, g) in scenario::self_passages(poly, false) {
-                found.push((format!("edges {x} and {y} of obstacles[{i}]"), g));
+                found.push((Between::ObstacleEdges(i, x, y), g));
             }
         }
     }
     for (x, y, g) in scenario::self_passages(&w.area, true) {
-        found.push((format!("area edges {x} and {y}"), g));
+        found.push((Between::AreaEdges(x, y), g));
     }
-    found.retain(|(_, g)| g.width > 0.0 && g.width <= 3.0 * p.a + TOL);
+    found.retain(|(_, g)| passage(g));
     let title = "passages at least W_pass = a + 2 r_safe wide";
     let narrowest = found.iter().min_by(|a, b| a.1.width.total_cmp(&b.1.width));
     match narrowest {
@@ -276,6 +284,26 @@ fn passages(w: &World) -> Check {
                     w_pass
                 ),
             }
+        }
+    }
+}
+
+/// The two sides of a passage.
+#[derive(Clone, Copy, Debug)]
+enum Between {
+    Obstacles(usize, usize),
+    Boundary(usize),
+    ObstacleEdges(usize, usize, usize),
+    AreaEdges(usize, usize),
+}
+
+impl fmt::Display for Between {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Between::Obstacles(i, j) => write!(f, "obstacles[{i}] and obstacles[{j}]"),
+            Between::Boundary(i) => write!(f, "obstacles[{i}] and the area boundary"),
+            Between::ObstacleEdges(i, x, y) => write!(f, "edges {x} and {y} of obstacles[{i}]"),
+            Between::AreaEdges(x, y) => write!(f, "area edges {x} and {y}"),
         }
     }
 }
@@ -338,6 +366,40 @@ fn reachability(s: &Scenario, w: &World, starts: &[VertexId], va: &[bool]) -> Ve
     out
 }
 
+/// The cells of `[x0, x1)` that `inside` accepts in one raster row, as
+/// `(first, last)`. They form one run around the column `mid` nearest the
+/// centre (the distance to a point along a row falls and then rises, and
+/// every floating-point step computing it is monotone), so bisection finds
+/// its ends exactly: the same cells as testing each one, in a few tests per
+/// row instead of one per cell (a disc of `r_st` covers some 500 cells of
+/// side a/10 per vertex).
+fn run(x0: usize, x1: usize, mid: usize, inside: impl Fn(usize) -> bool) -> Option<(usize, usize)> {
+    // Float ties can put the nearest cell one off the rounded column.
+    let seed = [mid, mid.saturating_sub(1).max(x0), (mid + 1).min(x1 - 1)].into_iter().find(|&x| inside(x))?;
+    // Invariant: `inside(hi)`, and every cell below `lo` is outside.
+    let (mut lo, mut hi) = (x0, seed);
+    while lo < hi {
+        let m = lo + (hi - lo) / 2;
+        if inside(m) {
+            hi = m;
+        } else {
+            lo = m + 1;
+        }
+    }
+    let first = hi;
+    // Invariant: `inside(lo)`, and every cell from `hi` on is outside.
+    let (mut lo, mut hi) = (seed, x1);
+    while hi - lo > 1 {
+        let m = lo + (hi - lo) / 2;
+        if inside(m) {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    Some((first, lo))
+}
+
 /// Whether the search can be complete at all on this lattice: every sample
 /// of `Ad` within `r_st` of some vertex of `Va`. Samples are the centres of a
 /// raster of side `a/10` that lie in `Ad`, plus points every `a/20` along
@@ -362,11 +424,14 @@ fn coverage(w: &World, va: &[bool]) -> Check {
         let y0 = ((c.y - r - lo.y) / h).floor().max(0.0) as usize;
         let x1 = (((c.x + r - lo.x) / h).ceil().max(0.0) as usize).min(nx);
         let y1 = (((c.y + r - lo.y) / h).ceil().max(0.0) as usize).min(ny);
+        if x0 >= x1 {
+            continue;
+        }
+        let mid = (((c.x - lo.x) / h - 0.5).round().max(0.0) as usize).clamp(x0, x1 - 1);
         for y in y0..y1 {
-            for x in x0..x1 {
-                if (cell(x, y) - c).norm() <= r + TOL {
-                    hit[y * nx + x] = true;
-                }
+            let inside = |x: usize| (cell(x, y) - c).norm() <= r + TOL;
+            if let Some((a, b)) = run(x0, x1, mid, inside) {
+                hit[y * nx + a..=y * nx + b].fill(true);
             }
         }
     }
@@ -443,5 +508,27 @@ fn coverage(w: &World, va: &[bool]) -> Check {
                 p.x, p.y
             ),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::run;
+
+    #[test]
+    fn a_run_is_found_exactly_by_bisection() {
+        // Every interval of 0..12, from every seed inside it, against the
+        // cell-by-cell answer; and rows with no cell inside.
+        for a in 0..12 {
+            for b in a..12 {
+                for mid in a..=b {
+                    assert_eq!(run(0, 12, mid, |x| (a..=b).contains(&x)), Some((a, b)), "{a}..={b} from {mid}");
+                }
+            }
+        }
+        assert_eq!(run(0, 12, 5, |_| false), None);
+        assert_eq!(run(3, 4, 3, |x| x == 3), Some((3, 3)));
+        // The seed may be one off the rounded column.
+        assert_eq!(run(0, 12, 5, |x| x == 6), Some((6, 6)));
     }
 }

@@ -41,7 +41,9 @@
 //! here): a degenerate or self-crossing polygon, an obstacle overlapping
 //! another or leaving the area, a non-positive length, `r_safe <= r_rob`, a
 //! target outside `Ad`, an inaccessible or shared start vertex, a situation
-//! other than 1 or 2, zero robots. The assumptions of the paper are *not*
+//! other than 1 or 2, zero robots, and anything beyond an admission limit
+//! ([`limits`]: sizes, counts and ranges, checked before the world is
+//! built). The assumptions of the paper are *not*
 //! enforced: a scenario that breaks them still runs, and
 //! [`crate::assumptions::check`] says which fail.
 //!
@@ -50,13 +52,14 @@
 //! scenario back in this format.
 
 mod gaps;
+pub mod limits;
 mod locate;
 pub mod random;
 mod raw;
 mod starts;
 mod write;
 
-pub(crate) use gaps::{boundary_gap, self_passages, shape_gap, Gap};
+pub(crate) use gaps::{boundary_gap, box_distance, self_passages, shape_gap, Gap};
 
 use crate::geometry::{Point, Polygon, Shape};
 use crate::grid::VertexId;
@@ -215,6 +218,8 @@ impl Scenario {
         if robots == 0 {
             return Err(ScenarioError::new(&file, None, "robots", "must be >= 1, got 0"));
         }
+        // The count may come from the command line, past the file's checks.
+        limits::check_robots(robots, world.grid.len() as f64).map_err(|m| limits::error(&file, "robots", m))?;
         match &self.starts {
             Starts::Border { from } => starts::border(world, *from, robots, &file),
             Starts::Points(pts) => starts::points(world, pts, robots, &file),

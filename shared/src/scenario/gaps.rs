@@ -71,6 +71,15 @@ fn segment_circle_gap(a: Point, b: Point, center: Point, radius: f64) -> Gap {
     Gap::new(q, center + (q - center) * (radius / d))
 }
 
+/// A lower bound on the gap between two shapes: the distance between their
+/// bounding boxes (zero when the boxes meet). Pairs of pieces are quadratic
+/// in number; this skips the exact gap of every pair too far apart to matter.
+pub(crate) fn box_distance(s: &(Point, Point), t: &(Point, Point)) -> f64 {
+    let dx = (t.0.x - s.1.x).max(s.0.x - t.1.x).max(0.0);
+    let dy = (t.0.y - s.1.y).max(s.0.y - t.1.y).max(0.0);
+    dx.hypot(dy)
+}
+
 /// Gap between two shapes; zero when they overlap, touch or nest.
 pub(crate) fn shape_gap(s: &Shape, t: &Shape) -> Gap {
     match (s, t) {

@@ -4,6 +4,7 @@
 
 use serde::Deserialize;
 
+use super::limits::{self, Extent};
 use super::locate::{line_col, Node};
 use super::{gaps, Scenario, ScenarioError, Starts};
 use crate::geometry::{Circle, Point, Polygon, Shape};
@@ -134,6 +135,11 @@ fn point(ctx: &Ctx, field: &str, xy: Xy) -> Result<Point, ScenarioError> {
     if !xy.iter().all(|v| v.is_finite()) {
         return Err(ctx.err(field, format!("coordinates must be finite numbers, got [{}, {}]", xy[0], xy[1])));
     }
+    if let Some(v) = xy.iter().find(|v| v.abs() > limits::MAX_COORD) {
+        let max = limits::MAX_COORD;
+        let v = limits::show(*v);
+        return Err(ctx.err(field, format!("coordinate {v} is beyond the limit MAX_COORD = {max} m in size")));
+    }
     Ok(Point::new(xy[0], xy[1]))
 }
 
@@ -143,6 +149,7 @@ fn polygon(ctx: &Ctx, field: &str, raw: &[Xy]) -> Result<Polygon, ScenarioError>
     if raw.len() < 3 {
         return Err(ctx.err(field, format!("a polygon needs at least 3 corners, got {}", raw.len())));
     }
+    limits::count("corners", raw.len(), "MAX_CORNERS", limits::MAX_CORNERS).map_err(|m| ctx.err(field, m))?;
     let pts = raw
         .iter()
         .enumerate()
@@ -185,6 +192,20 @@ fn non_negative(ctx: &Ctx, field: &str, v: f64) -> Result<f64, ScenarioError> {
     }
 }
 
+/// The grid side `a`: positive and from [`limits::MIN_A`] to [`limits::MAX_A`].
+fn grid_side(ctx: &Ctx, a: Option<f64>) -> Result<f64, ScenarioError> {
+    let a = positive(ctx, "params.a", a.unwrap_or(Params::default().a))?;
+    limits::within(a, limits::MIN_A, limits::MAX_A, "MIN_A to MAX_A").map_err(|m| ctx.err("params.a", m))
+}
+
+/// A robot-sized range: positive and at most [`limits::MAX_SENSING_SIDES`] grid sides.
+fn sensing(ctx: &Ctx, field: &str, v: f64, a: f64) -> Result<f64, ScenarioError> {
+    let v = positive(ctx, field, v)?;
+    let sides = limits::MAX_SENSING_SIDES;
+    limits::within(v, 0.0, sides * a, &format!("at most MAX_SENSING_SIDES = {sides} grid sides"))
+        .map_err(|m| ctx.err(field, m))
+}
+
 /// More retransmissions than this buy nothing measurable and cost a slot's air time.
 pub const MAX_RETRIES: u32 = 10;
 
@@ -194,9 +215,9 @@ impl RawParams {
     /// here, the checker reports them.
     fn into_params(self, ctx: &Ctx) -> Result<Params, ScenarioError> {
         let d = Params::default();
-        let a = positive(ctx, "params.a", self.a.unwrap_or(d.a))?;
-        let r_rob = positive(ctx, "params.r_rob", self.r_rob.unwrap_or(d.r_rob))?;
-        let r_safe = positive(ctx, "params.r_safe", self.r_safe.unwrap_or(d.r_safe))?;
+        let a = grid_side(ctx, self.a)?;
+        let r_rob = sensing(ctx, "params.r_rob", self.r_rob.unwrap_or(d.r_rob), a)?;
+        let r_safe = sensing(ctx, "params.r_safe", self.r_safe.unwrap_or(d.r_safe), a)?;
         if r_safe <= r_rob {
             return Err(
                 ctx.err("params.r_safe", format!("must be > r_rob = {r_rob} (it includes every error), got {r_safe}"))
@@ -209,12 +230,29 @@ impl RawParams {
         p.r_so = opt("params.r_so", self.r_so, positive, p.r_so)?;
         p.r_st = opt("params.r_st", self.r_st, positive, p.r_st)?;
         p.r_c = opt("params.r_c", self.r_c, positive, p.r_c)?;
+        for (field, v) in [("params.r_so", p.r_so), ("params.r_st", p.r_st)] {
+            sensing(ctx, field, v, a)?;
+        }
+        let radio = limits::MAX_RADIO_SIDES;
+        limits::within(p.r_c, 0.0, radio * a, &format!("MAX_RADIO_SIDES = {radio} grid sides"))
+            .map_err(|m| ctx.err("params.r_c", m))?;
         p.t_rot = opt("params.t_rot", self.t_rot, non_negative, p.t_rot)?;
         p.t_trans = opt("params.t_trans", self.t_trans, non_negative, p.t_trans)?;
         p.t_choice = opt("params.t_choice", self.t_choice, non_negative, p.t_choice)?;
         p.t_exchange = opt("params.t_exchange", self.t_exchange, positive, p.t_exchange)?;
         p.t_hop = opt("params.t_hop", self.t_hop, positive, p.t_hop)?;
         p.t_wait = opt("params.t_wait", self.t_wait, positive, p.t_wait)?;
+        for (field, v, lo) in [
+            ("params.t_rot", p.t_rot, 0.0),
+            ("params.t_trans", p.t_trans, 0.0),
+            ("params.t_choice", p.t_choice, 0.0),
+            ("params.t_exchange", p.t_exchange, limits::MIN_TIME),
+            ("params.t_hop", p.t_hop, limits::MIN_TIME),
+            ("params.t_wait", p.t_wait, limits::MIN_TIME),
+        ] {
+            let why = if lo > 0.0 { "MIN_TIME to MAX_TIME" } else { "MAX_TIME" };
+            limits::within(v, lo, limits::MAX_TIME, why).map_err(|m| ctx.err(field, m))?;
+        }
         if p.t_hop >= p.t_exchange {
             return Err(ctx.err(
                 "params.t_hop",
@@ -286,6 +324,31 @@ fn check_lfp(ctx: &Ctx, l: &LfpParams) -> Result<(), ScenarioError> {
     }
     non_negative(ctx, "lfp.k_robot", l.k_robot)?;
     non_negative(ctx, "lfp.k_obstacle", l.k_obstacle)?;
+    check_lfp_limits(ctx, l)
+}
+
+/// The admission limits of `[lfp]`: finite gains, flights and loops.
+fn check_lfp_limits(ctx: &Ctx, l: &LfpParams) -> Result<(), ScenarioError> {
+    let sigma = match l.turn {
+        crate::lfp::Turn::Sigma(s) => s,
+        crate::lfp::Turn::Uniform => 0.0,
+    };
+    let checks = [
+        ("lfp.scale", l.scale, 0.0, limits::MAX_LFP_GAIN, "MAX_LFP_GAIN"),
+        ("lfp.k_robot", l.k_robot, 0.0, limits::MAX_LFP_GAIN, "MAX_LFP_GAIN"),
+        ("lfp.k_obstacle", l.k_obstacle, 0.0, limits::MAX_LFP_GAIN, "MAX_LFP_GAIN"),
+        ("lfp.max_step", l.max_step, 1.0, limits::MAX_FLIGHT_SIDES, "MAX_FLIGHT_SIDES"),
+        ("lfp.turn", sigma, 0.0, limits::MAX_TURN_SIGMA, "MAX_TURN_SIGMA"),
+        ("lfp.max_steer", l.max_steer, 0.0, std::f64::consts::PI, "an angle from 0 to pi"),
+    ];
+    for (field, v, lo, hi, why) in checks {
+        limits::within(v, lo, hi, why).map_err(|m| ctx.err(field, m))?;
+    }
+    if !(1..=limits::MAX_MICRO_STEPS).contains(&l.micro_steps) {
+        let max = limits::MAX_MICRO_STEPS;
+        let got = l.micro_steps;
+        return Err(ctx.err("lfp.micro_steps", format!("must be from 1 to MAX_MICRO_STEPS = {max}, got {got}")));
+    }
     Ok(())
 }
 
@@ -293,21 +356,26 @@ fn check_lfp(ctx: &Ctx, l: &LfpParams) -> Result<(), ScenarioError> {
 const DEFAULT_ROBOTS: usize = 3;
 
 impl RawScenario {
-    pub fn into_scenario(self, ctx: &Ctx) -> Result<Scenario, ScenarioError> {
+    pub fn into_scenario(mut self, ctx: &Ctx) -> Result<Scenario, ScenarioError> {
         let robots = self.robots.unwrap_or(DEFAULT_ROBOTS);
         if robots == 0 {
             return Err(ctx.err("robots", "must be >= 1, got 0"));
         }
+        limits::count("robots", robots, "MAX_ROBOTS", limits::MAX_ROBOTS).map_err(|m| ctx.err("robots", m))?;
         let situation = self.situation.unwrap_or(1);
         let situation = Situation::from_number(situation).ok_or_else(|| {
             ctx.err("situation", format!("must be 1 (|T| known) or 2 (|T| unknown), got {situation}"))
         })?;
         let grid = self.grid.unwrap_or(LatticeKind::Triangular);
-        let params = self.params.into_params(ctx)?;
-        check_lfp(ctx, &self.lfp)?;
-
+        // The area and the grid side first: together they decide the size
+        // of everything else, and a grid far too fine is the error to report
+        // even when the default ranges do not fit it either.
         let area = polygon(ctx, "area.polygon", &self.area.polygon)?;
+        self.admit(ctx, &area, grid_side(ctx, self.params.a)?, grid, robots)?;
+        let params = std::mem::take(&mut self.params).into_params(ctx)?;
+        check_lfp(ctx, &self.lfp)?;
         let mut obstacles: Vec<Shape> = Vec::with_capacity(self.obstacles.len());
+        let mut boxes = Vec::with_capacity(self.obstacles.len());
         for (k, raw) in self.obstacles.into_iter().enumerate() {
             let field = format!("obstacles[{k}]");
             let shape = raw.into_shape(ctx, &field)?;
@@ -320,13 +388,17 @@ impl RawScenario {
                 };
                 return Err(ctx.err(field, format!("must lie inside the area, clear of its boundary, but {why}")));
             }
-            for (j, other) in obstacles.iter().enumerate() {
-                let g = gaps::shape_gap(other, &shape);
+            let bx = shape.bounding_box();
+            // Boxes apart by any distance: the shapes cannot meet.
+            let near = boxes.iter().enumerate().filter(|(_, b)| gaps::box_distance(b, &bx) == 0.0);
+            for (j, _) in near {
+                let g = gaps::shape_gap(&obstacles[j], &shape);
                 if g.width == 0.0 {
                     return Err(ctx.err(field, format!("overlaps or touches obstacles[{j}] near {}", fmt_xy(g.a))));
                 }
             }
             obstacles.push(shape);
+            boxes.push(bx);
         }
 
         let mut targets = Vec::with_capacity(self.targets.len());
@@ -356,6 +428,34 @@ impl RawScenario {
 
         let name = self.name.unwrap_or_else(|| file_stem(ctx.file));
         Ok(Scenario { name, area, obstacles, targets, starts, robots, params, grid, situation, lfp: self.lfp })
+    }
+}
+
+impl RawScenario {
+    /// The counts and sizes that decide how much the rest of the checks,
+    /// the world and a run will cost, before any of them runs.
+    fn admit(&self, ctx: &Ctx, area: &Polygon, a: f64, grid: LatticeKind, robots: usize) -> Result<(), ScenarioError> {
+        let corners: usize = self.obstacles.iter().filter_map(|o| o.polygon.as_ref()).map(Vec::len).sum();
+        let total = corners + area.points.len();
+        let counts = [
+            ("obstacles", "obstacles", self.obstacles.len(), "MAX_OBSTACLES", limits::MAX_OBSTACLES),
+            ("obstacles", "polygon corners", total, "MAX_TOTAL_CORNERS", limits::MAX_TOTAL_CORNERS),
+            ("targets", "targets", self.targets.len(), "MAX_TARGETS", limits::MAX_TARGETS),
+        ];
+        for (field, what, n, name, max) in counts {
+            limits::count(what, n, name, max).map_err(|m| ctx.err(field, m))?;
+        }
+        if let Some(RawStarts { points: Some(pts), .. }) = &self.starts {
+            limits::count("start points", pts.len(), "MAX_ROBOTS", limits::MAX_ROBOTS)
+                .map_err(|m| ctx.err("starts.points", m))?;
+        }
+        let (lo, hi) = area.bounding_box();
+        let extent = Extent { width: hi.x - lo.x, height: hi.y - lo.y, a, kind: grid };
+        let pieces = limits::pieces(area.points.len(), self.obstacles.len(), self.targets.len());
+        // Blame `a` when the file chose a finer grid than the default.
+        let field = if a < Params::default().a { "params.a" } else { "area.polygon" };
+        limits::check_size(&extent, pieces).map_err(|m| ctx.err(field, m))?;
+        limits::check_robots(robots, extent.frame_vertices()).map_err(|m| ctx.err("robots", m))
     }
 }
 

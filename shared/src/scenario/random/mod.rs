@@ -87,7 +87,10 @@ pub fn generate(spec: &Spec) -> Result<Generated, ScenarioError> {
     for k in 0..MAX_ATTEMPTS {
         let mut rng = ChaCha8Rng::seed_from_u64(derive(spec.seed, k));
         match attempt(spec, &mut rng) {
-            Ok(scenario) => return Ok(Generated { scenario, attempts: k + 1 }),
+            Ok(scenario) => {
+                super::limits::admit(&scenario)?;
+                return Ok(Generated { scenario, attempts: k + 1 });
+            }
             Err(why) => last = why,
         }
     }

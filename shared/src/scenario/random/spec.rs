@@ -5,7 +5,9 @@
 
 use std::fmt::Write as _;
 
+use crate::lattice::LatticeKind;
 use crate::params::Params;
+use crate::scenario::limits::{self, Extent};
 use crate::scenario::ScenarioError;
 
 /// What precedes the seed.
@@ -202,7 +204,21 @@ impl Spec {
             }
         }
         s.passage = s.check_passage(text, passage)?;
+        s.admit(text)?;
         Ok(s)
+    }
+
+    /// The scenario admission limits on the options, before any map is
+    /// drawn: the frame of the area asked for (its walls move out by less
+    /// than a grid side when they snap), with its targets and robots. The
+    /// map drawn is checked again, obstacles included ([`crate::scenario::limits::admit`]).
+    fn admit(&self, text: &str) -> Result<(), ScenarioError> {
+        let a = Params::default().a;
+        let (width, height) = (self.size.0 + 2.0 * a, self.size.1 + 2.0 * a);
+        let extent = Extent { width, height, a, kind: LatticeKind::Triangular };
+        let err = |field: &'static str| move |m: String| ScenarioError::new(text, None, field, m);
+        limits::check_size(&extent, limits::pieces(4, 0, self.targets)).map_err(err("size"))?;
+        limits::check_robots(self.robots, extent.frame_vertices()).map_err(err("robots"))
     }
 
     /// The passage width, checked against `W_pass`: a map asked to hold

@@ -1,0 +1,264 @@
+//! Admission limits: what a scenario may ask of the machine, checked while
+//! it is read and before anything is allocated or computed in proportion to
+//! it (issue 11). A file of a few bytes can name a billion grid vertices
+//! (`a = 0.01`), a laser that sees every target from every vertex
+//! (`r_st = 1e300`) or a move that lasts longer than the clock can count
+//! (`t_rot = 1e308`); each such request is refused here with the field, the
+//! value and the limit, instead of running out of memory or time later.
+//!
+//! The limits are generous: every built-in, every example of
+//! docs/scenario-format.md and every `random:` map its options accept pass,
+//! and `MAX_ROBOTS` leaves room for 10,000 robots (issue 10). The derived
+//! ones bound products that the world build and the assumption checks pay
+//! for: vertices times the pieces each vertex is tested against, robots
+//! times the vertices each robot's map holds. docs/scenario-format.md lists
+//! every constant.
+
+use super::{Scenario, ScenarioError};
+use crate::geometry::Shape;
+use crate::lattice::LatticeKind;
+
+/// Largest |x| or |y| of any point (m): keeps lattice coordinates
+/// (position / a) far inside `i32` and products of coordinates exact enough.
+pub const MAX_COORD: f64 = 1e5;
+/// Smallest grid side `a` (m).
+pub const MIN_A: f64 = 1e-3;
+/// Largest grid side `a` (m).
+pub const MAX_A: f64 = 1e3;
+/// Largest robot, safety, sonar and laser range, in grid sides: the
+/// coverage check stamps a disc of `r_st` around every vertex and LFP's
+/// sensing index one of `r_so` around every wall.
+pub const MAX_SENSING_SIDES: f64 = 20.0;
+/// Largest radio range `r_c`, in grid sides. The radio's cost grows with
+/// the robots in range, not the range, so this only keeps it finite.
+pub const MAX_RADIO_SIDES: f64 = 1000.0;
+/// Smallest positive time (s): the simulated clock counts microseconds, so
+/// a shorter `t_exchange`, `t_hop` or `t_wait` would round to nothing.
+pub const MIN_TIME: f64 = 1e-6;
+/// Largest time parameter (s). Sums of them over 10^5 rounds stay exact in
+/// microseconds and finite in seconds (`t_rot = t_trans = 1e308` made the
+/// search time NaN).
+pub const MAX_TIME: f64 = 3600.0;
+/// Corners of one polygon (area or obstacle): simplicity and the passages
+/// across a polygon's own concavities are quadratic in them, and every
+/// vertex is tested against every edge of the area.
+pub const MAX_CORNERS: usize = 1000;
+/// Corners of the area and every polygon obstacle together (a 400 x 400 m
+/// random map has some 30,000).
+pub const MAX_TOTAL_CORNERS: usize = 100_000;
+/// Obstacles (a 400 x 400 m random map holds several thousand).
+pub const MAX_OBSTACLES: usize = 20_000;
+/// Targets.
+pub const MAX_TARGETS: usize = 10_000;
+/// Robots, from the file or the command line: a robot id is 16 bits on the
+/// radio ([`crate::protocol::MAX_ROBOTS`]).
+pub const MAX_ROBOTS: usize = crate::protocol::MAX_ROBOTS;
+/// Lattice vertices in the frame, the area's bounding box (counted from its
+/// extent and `a`, before any is made).
+pub const MAX_FRAME_VERTICES: f64 = 1e6;
+/// Cells of the coverage raster (side `a / 10` over the area's bounding box).
+pub const MAX_RASTER_CELLS: f64 = 1.5e8;
+/// Frame vertices times (AREA_CORNER_WEIGHT x area corners + obstacles +
+/// targets): the world tests every vertex against every edge of the area
+/// (containment, clearance, and the six edges from it), every obstacle's
+/// bounding box and every target. At the limit `check` takes about a minute
+/// of CPU (World::new scans every obstacle for every vertex).
+pub const MAX_VERTEX_WORK: f64 = 4e9;
+/// What one area corner costs per vertex against one obstacle (measured:
+/// about 240 ns against 12 ns).
+pub const AREA_CORNER_WEIGHT: usize = 20;
+/// Robots times frame vertices: every robot's map holds about 1.25 bytes
+/// per frame vertex.
+pub const MAX_ROBOT_VERTICES: f64 = 4e8;
+/// Largest LFP gain or length scale (`scale`, `k_robot`, `k_obstacle`):
+/// larger ones overflow the potential field to infinity.
+pub const MAX_LFP_GAIN: f64 = 1e6;
+/// Longest LFP flight, `max_step`, in grid sides.
+pub const MAX_FLIGHT_SIDES: f64 = 1e4;
+/// Largest LFP turn sigma (rad); beyond a few radians a turn is uniform anyway.
+pub const MAX_TURN_SIGMA: f64 = 100.0;
+/// LFP micro-steps per sub-step: every one is a pass over all robots.
+pub const MAX_MICRO_STEPS: u32 = 1000;
+
+/// Grid side of the coverage raster, in `a` (assumptions.rs, `coverage`).
+const RASTER_SIDES: f64 = 0.1;
+
+/// How a scenario's size is reported when it breaks a derived limit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Extent {
+    /// Width and height of the area's bounding box (m).
+    pub width: f64,
+    pub height: f64,
+    pub a: f64,
+    pub kind: LatticeKind,
+}
+
+impl Extent {
+    /// An upper bound on the lattice vertices in the bounding box: rows
+    /// times vertices per row, each rounded up (computed in `f64`, so a huge
+    /// box cannot overflow the count).
+    pub fn frame_vertices(&self) -> f64 {
+        let row = match self.kind {
+            LatticeKind::Square => self.a,
+            _ => self.a * 3f64.sqrt() / 2.0,
+        };
+        (self.width / self.a + 1.0).floor().max(1.0) * (self.height / row + 1.0).floor().max(1.0)
+    }
+
+    /// Cells of the coverage raster.
+    pub fn raster_cells(&self) -> f64 {
+        let h = RASTER_SIDES * self.a;
+        (self.width / h).ceil().max(1.0) * (self.height / h).ceil().max(1.0)
+    }
+}
+
+/// A number as a person would write it: `1e300`, not three hundred digits.
+pub fn show(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && (v.abs() >= 1e16 || v.abs() < 1e-4) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// A limit broken: `what` (a noun phrase) is `value`, above `limit`.
+pub(crate) fn over(value: impl std::fmt::Display, name: &str, limit: impl std::fmt::Display) -> String {
+    format!("{value} is above the limit {name} = {limit}")
+}
+
+/// `Err(message)` when a count exceeds its limit.
+pub(crate) fn count(what: &str, n: usize, name: &str, limit: usize) -> Result<(), String> {
+    if n > limit {
+        Err(format!("{what}: {}", over(n, name, limit)))
+    } else {
+        Ok(())
+    }
+}
+
+/// `Err(message)` unless `v` is a finite number within `[lo, hi]`; the
+/// message names both bounds and where they come from.
+pub(crate) fn within(v: f64, lo: f64, hi: f64, why: &str) -> Result<f64, String> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(format!("must be from {} to {} ({why}), got {}", show(lo), show(hi), show(v)))
+    }
+}
+
+/// What every vertex is tested against, in [`MAX_VERTEX_WORK`]'s units.
+pub fn pieces(area_corners: usize, obstacles: usize, targets: usize) -> usize {
+    AREA_CORNER_WEIGHT * area_corners + obstacles + targets
+}
+
+/// The size limits of one area at one grid: frame vertices, raster cells,
+/// and the work they multiply; `pieces` comes from [`pieces`].
+pub fn check_size(e: &Extent, pieces: usize) -> Result<(), String> {
+    let frame = e.frame_vertices();
+    let at = format!("the area's {} x {} m bounding box at a = {} m", e.width, e.height, e.a);
+    if frame > MAX_FRAME_VERTICES {
+        return Err(format!(
+            "{at} holds about {frame:.0} frame vertices, above the limit MAX_FRAME_VERTICES = {MAX_FRAME_VERTICES:.0} \
+             (raise a or shrink the area)"
+        ));
+    }
+    let cells = e.raster_cells();
+    if cells > MAX_RASTER_CELLS {
+        return Err(format!(
+            "{at} needs {cells:.0} coverage raster cells of side a/10, above the limit MAX_RASTER_CELLS = {MAX_RASTER_CELLS:.0}"
+        ));
+    }
+    let work = frame * pieces as f64;
+    if work > MAX_VERTEX_WORK {
+        return Err(format!(
+            "{frame:.0} frame vertices times {pieces} (area corners x {AREA_CORNER_WEIGHT} + obstacles + targets) = \
+             {work:.3e}, above the limit MAX_VERTEX_WORK = {MAX_VERTEX_WORK:.0e}"
+        ));
+    }
+    Ok(())
+}
+
+/// `robots` robots on a world of `frame_vertices` vertices: the file's
+/// count, and again a count given after the scenario was read (`--robots`).
+pub fn check_robots(robots: usize, frame_vertices: f64) -> Result<(), String> {
+    count("robots", robots, "MAX_ROBOTS", MAX_ROBOTS)?;
+    let maps = robots as f64 * frame_vertices;
+    if maps > MAX_ROBOT_VERTICES {
+        return Err(format!(
+            "{robots} robots times {frame_vertices:.0} frame vertices = {maps:.3e}, above the limit \
+             MAX_ROBOT_VERTICES = {MAX_ROBOT_VERTICES:.0e} (every robot holds a map of the frame)"
+        ));
+    }
+    Ok(())
+}
+
+/// Builds the error of a broken limit for `file`.
+pub(crate) fn error(file: &str, field: &str, message: String) -> ScenarioError {
+    ScenarioError::new(file, None, field, message)
+}
+
+/// The count and size limits of a scenario already built in code (a
+/// `random:` map), the same that [`Scenario::parse`] applies to a file.
+pub fn admit(s: &Scenario) -> Result<(), ScenarioError> {
+    let err = |field: &str, m: String| error(&s.name, field, m);
+    let corners = |shape: &Shape| match shape {
+        Shape::Polygon(p) => p.points.len(),
+        Shape::Circle(_) => 0,
+    };
+    let total = s.area.points.len() + s.obstacles.iter().map(corners).sum::<usize>();
+    let counts = [
+        ("area.polygon", "corners", s.area.points.len(), "MAX_CORNERS", MAX_CORNERS),
+        ("obstacles", "obstacles", s.obstacles.len(), "MAX_OBSTACLES", MAX_OBSTACLES),
+        ("obstacles", "polygon corners", total, "MAX_TOTAL_CORNERS", MAX_TOTAL_CORNERS),
+        ("targets", "targets", s.targets.len(), "MAX_TARGETS", MAX_TARGETS),
+        ("robots", "robots", s.robots, "MAX_ROBOTS", MAX_ROBOTS),
+    ];
+    for (field, what, n, name, max) in counts {
+        count(what, n, name, max).map_err(|m| err(field, m))?;
+    }
+    let (lo, hi) = s.area.bounding_box();
+    let extent = Extent { width: hi.x - lo.x, height: hi.y - lo.y, a: s.params.a, kind: s.grid };
+    let pieces = pieces(s.area.points.len(), s.obstacles.len(), s.targets.len());
+    check_size(&extent, pieces).map_err(|m| err("area.polygon", m))?;
+    check_robots(s.robots, extent.frame_vertices()).map_err(|m| err("robots", m))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_vertices_bound_the_grid_built() {
+        use crate::geometry::Point;
+        use crate::lattice::Lattice;
+        for kind in LatticeKind::ALL {
+            for (w, h, a) in [(20.0, 16.0, 1.0), (7.3, 2.9, 0.37), (1.0, 1.0, 3.0)] {
+                let e = Extent { width: w, height: h, a, kind };
+                let built =
+                    Lattice::new(kind, a).coords_in_box(Point::new(0.1, 0.2), Point::new(0.1 + w, 0.2 + h)).len();
+                assert!(built as f64 <= e.frame_vertices(), "{kind:?} {w}x{h} a={a}: {built} > {}", e.frame_vertices());
+                assert!(e.frame_vertices() <= 2.0 * built as f64 + 8.0, "{kind:?} {w}x{h}: loose bound");
+            }
+        }
+    }
+
+    #[test]
+    fn a_hundredth_of_a_metre_on_the_paper_map_is_refused() {
+        let e = Extent { width: 20.0, height: 16.0, a: 0.01, kind: LatticeKind::Triangular };
+        let m = check_size(&e, 10).unwrap_err();
+        assert!(m.contains("MAX_FRAME_VERTICES = 1000000") && m.contains("a = 0.01"), "{m}");
+        let ok = Extent { a: 1.0, ..e };
+        check_size(&ok, 10).unwrap();
+    }
+
+    #[test]
+    fn the_biggest_random_map_fits() {
+        // size=400x400 at a = 1, up to 1000 robots and targets, thousands
+        // of obstacles (random/spec.rs bounds its options by these).
+        let e = Extent { width: 402.0, height: 402.0, a: 1.0, kind: LatticeKind::Triangular };
+        check_size(&e, pieces(60, 10_000, 1000)).unwrap();
+        check_robots(1000, e.frame_vertices()).unwrap();
+        check_robots(10_000, 40_000.0).unwrap();
+        assert!(check_robots(5000, e.frame_vertices()).unwrap_err().contains("MAX_ROBOT_VERTICES"));
+        assert!(check_robots(MAX_ROBOTS + 1, 10.0).unwrap_err().contains("MAX_ROBOTS = 65535"));
+    }
+}
