@@ -68,16 +68,7 @@ impl Polygon {
     /// Even-odd point-in-polygon test; points on the boundary may go either way,
     /// which never matters because clearance tests follow.
     pub fn contains(&self, p: Point) -> bool {
-        let mut inside = false;
-        for (a, b) in self.edges() {
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-                if p.x < x {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
+        self.edges().filter(|&(a, b)| crosses_ray(p, a, b)).count() % 2 == 1
     }
 
     pub fn boundary_distance(&self, p: Point) -> f64 {
@@ -177,6 +168,12 @@ impl Shape {
             ),
         }
     }
+}
+
+/// Whether the edge `a -> b` crosses the ray from `p` towards +x: the
+/// even-odd test counts these. An edge whose y-span misses `p.y` never does.
+pub fn crosses_ray(p: Point, a: Point, b: Point) -> bool {
+    (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)
 }
 
 /// Smallest distance between two moving points that start at `p0`, `q0` and

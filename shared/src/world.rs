@@ -6,7 +6,9 @@
 
 use std::collections::VecDeque;
 
-use crate::geometry::{Point, Polygon, Shape};
+mod buckets;
+
+use crate::geometry::{crosses_ray, point_segment_distance, segment_segment_distance, Point, Polygon, Shape};
 use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::params::Params;
@@ -25,32 +27,94 @@ pub struct World {
     targets_near: Vec<Vec<u32>>,
 }
 
-impl World {
-    pub fn new(area: Polygon, obstacles: Vec<Shape>, targets: Vec<Point>, params: Params, kind: LatticeKind) -> Self {
-        let (lo, hi) = area.bounding_box();
-        let grid = Grid::new(Lattice::new(kind, params.a), lo, hi);
-        // Bounding boxes grown by r_safe: a point or edge outside one cannot
-        // come within r_safe of that obstacle, which skips almost every test.
+/// What can be near a point of the grid, for building a world: obstacles
+/// and area edges within `r_safe` of a vertex or of an edge from it, the
+/// area edges a ray from it may cross, the targets within `r_st`. Each
+/// answer is a superset (the exact tests follow), so a world is the same as
+/// testing every item, only faster on large maps.
+struct Near {
+    edges: Vec<(Point, Point)>,
+    /// Obstacle boxes grown by `r_safe`: a point or edge outside one is
+    /// clear of that obstacle.
+    boxes: Vec<(Point, Point)>,
+    by_cell: buckets::Buckets,
+    edges_by_cell: buckets::Buckets,
+    /// Edges by horizontal band, for the even-odd test.
+    edges_by_row: buckets::Buckets,
+    targets_by_cell: buckets::Buckets,
+}
+
+impl Near {
+    fn new(area: &Polygon, obstacles: &[Shape], targets: &[Point], params: &Params, lo: Point, hi: Point) -> Self {
+        let a = if params.a > 0.0 { params.a } else { (hi.x - lo.x).max(hi.y - lo.y).max(1.0) };
+        let cell = (2.0 * a, 2.0 * a);
+        // An edge from a vertex is `a` long: what is within r_safe of it is
+        // within r_safe + a of the vertex.
+        let reach = params.r_safe.max(0.0) + a;
+        let m = params.r_safe;
         let boxes: Vec<(Point, Point)> = obstacles
             .iter()
             .map(|o| {
                 let (lo, hi) = o.bounding_box();
-                let m = params.r_safe;
                 (Point::new(lo.x - m, lo.y - m), Point::new(hi.x + m, hi.y + m))
             })
             .collect();
-        let near = |p: Point, q: Point| {
-            let (lo, hi) = (Point::new(p.x.min(q.x), p.y.min(q.y)), Point::new(p.x.max(q.x), p.y.max(q.y)));
-            boxes
-                .iter()
-                .enumerate()
-                .filter(move |(_, (a, b))| lo.x <= b.x && hi.x >= a.x && lo.y <= b.y && hi.y >= a.y)
-                .map(|(k, _)| k)
-        };
+        let edges: Vec<(Point, Point)> = area.edges().collect();
+        let edge_boxes: Vec<(Point, Point)> =
+            edges.iter().map(|&(p, q)| (Point::new(p.x.min(q.x), p.y.min(q.y)), Point::new(p.x.max(q.x), p.y.max(q.y)))).collect();
+        let points: Vec<(Point, Point)> = targets.iter().map(|&t| (t, t)).collect();
+        let one_column = (2.0 * (hi.x - lo.x).abs() + 1.0, a);
+        Near {
+            by_cell: buckets::Buckets::new(lo, hi, cell, &boxes, reach),
+            edges_by_cell: buckets::Buckets::new(lo, hi, cell, &edge_boxes, reach),
+            edges_by_row: buckets::Buckets::new(lo, hi, one_column, &edge_boxes, 0.0),
+            targets_by_cell: buckets::Buckets::new(lo, hi, cell, &points, params.r_st.max(0.0)),
+            edges,
+            boxes,
+        }
+    }
+
+    /// The even-odd test of the area ([`Polygon::contains`]) on the edges
+    /// whose band holds `p`: the others cannot cross its ray.
+    fn inside(&self, p: Point) -> bool {
+        self.edges_by_row.near(p).iter().filter(|&&k| crosses_ray(p, self.edges[k as usize].0, self.edges[k as usize].1)).count() % 2 == 1
+    }
+
+    /// Area edges that may come within `r_safe` of `p` or of an edge from it.
+    fn edges(&self, p: Point) -> impl Iterator<Item = (Point, Point)> + '_ {
+        self.edges_by_cell.near(p).iter().map(|&k| self.edges[k as usize])
+    }
+
+    /// Obstacles whose grown box meets the box of the segment `[p, q]`
+    /// (`q` at most `a` from `p`).
+    fn obstacles(&self, p: Point, q: Point) -> impl Iterator<Item = usize> + '_ {
+        let (lo, hi) = (Point::new(p.x.min(q.x), p.y.min(q.y)), Point::new(p.x.max(q.x), p.y.max(q.y)));
+        self.by_cell
+            .near(p)
+            .iter()
+            .map(|&k| k as usize)
+            .filter(move |&k| {
+                let (a, b) = self.boxes[k];
+                lo.x <= b.x && hi.x >= a.x && lo.y <= b.y && hi.y >= a.y
+            })
+    }
+
+    /// Targets that may be within `r_st` of `p`, ascending.
+    fn targets(&self, p: Point) -> impl Iterator<Item = u32> + '_ {
+        self.targets_by_cell.near(p).iter().copied()
+    }
+}
+
+impl World {
+    pub fn new(area: Polygon, obstacles: Vec<Shape>, targets: Vec<Point>, params: Params, kind: LatticeKind) -> Self {
+        let (lo, hi) = area.bounding_box();
+        let grid = Grid::new(Lattice::new(kind, params.a), lo, hi);
+        let near = Near::new(&area, &obstacles, &targets, &params, lo, hi);
+        let r_safe = params.r_safe;
         let clear = |p: Point| {
-            area.contains(p)
-                && area.boundary_distance(p) >= params.r_safe
-                && near(p, p).all(|k| obstacles[k].distance(p) >= params.r_safe)
+            near.inside(p)
+                && near.edges(p).all(|(a, b)| point_segment_distance(p, a, b) >= r_safe)
+                && near.obstacles(p, p).all(|k| obstacles[k].distance(p) >= r_safe)
         };
         let accessible: Vec<bool> = (0..grid.len() as VertexId).map(|v| clear(grid.position(v))).collect();
         let open = (0..grid.len() as VertexId)
@@ -65,8 +129,8 @@ impl World {
                         continue;
                     }
                     let q = grid.position(n);
-                    let ok = area.boundary_segment_distance(p, q) >= params.r_safe
-                        && near(p, q).all(|k| obstacles[k].segment_distance(p, q) >= params.r_safe);
+                    let ok = near.edges(p).all(|(a, b)| segment_segment_distance(p, q, a, b) >= r_safe)
+                        && near.obstacles(p, q).all(|k| obstacles[k].segment_distance(p, q) >= r_safe);
                     if ok {
                         mask |= 1 << d;
                     }
@@ -77,7 +141,7 @@ impl World {
         let targets_near = (0..grid.len() as VertexId)
             .map(|v| {
                 let p = grid.position(v);
-                (0..targets.len()).filter(|&t| (targets[t] - p).norm() <= params.r_st).map(|t| t as u32).collect()
+                near.targets(p).filter(|&t| (targets[t as usize] - p).norm() <= params.r_st).collect()
             })
             .collect();
         World { grid, area, obstacles, targets, params, accessible, open, targets_near }
@@ -236,6 +300,61 @@ impl Raster {
 mod tests {
     use super::*;
     use crate::geometry::Circle;
+
+    /// The world as testing every vertex and edge against every area edge,
+    /// obstacle and target: what [`Near`]'s cells must not change.
+    fn tested_against_everything(w: &World) -> (Vec<bool>, Vec<u8>, Vec<Vec<u32>>) {
+        let (g, r) = (&w.grid, w.params.r_safe);
+        let clear = |p: Point| {
+            w.area.contains(p) && w.area.boundary_distance(p) >= r && w.obstacles.iter().all(|o| o.distance(p) >= r)
+        };
+        let accessible: Vec<bool> = (0..g.len() as VertexId).map(|v| clear(g.position(v))).collect();
+        let open = (0..g.len() as VertexId)
+            .map(|v| {
+                let (p, mut mask) = (g.position(v), 0u8);
+                for (d, &n) in g.neighbors(v)[..g.degree()].iter().enumerate() {
+                    if accessible[v as usize] && n != NONE && accessible[n as usize] {
+                        let q = g.position(n);
+                        let ok = w.area.boundary_segment_distance(p, q) >= r
+                            && w.obstacles.iter().all(|o| o.segment_distance(p, q) >= r);
+                        mask |= (ok as u8) << d;
+                    }
+                }
+                mask
+            })
+            .collect();
+        let near = (0..g.len() as VertexId)
+            .map(|v| (0..w.targets.len() as u32).filter(|&t| (w.targets[t as usize] - g.position(v)).norm() <= w.params.r_st).collect())
+            .collect();
+        (accessible, open, near)
+    }
+
+    #[test]
+    fn cells_change_nothing() {
+        let mut worlds: Vec<World> =
+            ["paper", "cave", "large", "open", "small"].iter().map(|n| crate::scenario::Scenario::builtin(n).unwrap().world()).collect();
+        for seed in 1..=4 {
+            let spec = format!("random:{seed},size=60x40,density=0.3,targets=40");
+            worlds.push(crate::scenario::Scenario::load(&spec).unwrap().world());
+        }
+        // A many-cornered area: its edges are found by band and by cell.
+        let star: Vec<Point> = (0..300)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 300.0;
+                let r = 12.0 + 2.0 * (7.0 * t).sin();
+                Point::new(15.0 + r * t.cos(), 15.0 + r * t.sin())
+            })
+            .collect();
+        let targets = vec![Point::new(15.0, 15.0), Point::new(10.0, 18.0)];
+        worlds.push(World::new(Polygon::new(star), vec![], targets, Params::default(), LatticeKind::Triangular));
+        for w in &worlds {
+            let (accessible, open, near) = tested_against_everything(w);
+            assert!(accessible.iter().any(|&a| a) && open.iter().any(|&m| m != 0));
+            assert_eq!(w.accessible, accessible);
+            assert_eq!(w.open, open);
+            assert_eq!(w.targets_near, near);
+        }
+    }
 
     fn rect(w: f64, h: f64) -> Polygon {
         Polygon::new(vec![Point::new(0.0, 0.0), Point::new(w, 0.0), Point::new(w, h), Point::new(0.0, h)])
