@@ -8,6 +8,7 @@ use std::collections::VecDeque;
 
 mod buckets;
 
+use crate::bitset::Bitset;
 use crate::geometry::{crosses_ray, point_segment_distance, segment_segment_distance, Point, Polygon, Shape};
 use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::{Lattice, LatticeKind};
@@ -205,6 +206,13 @@ impl World {
     /// Whether `p` lies in `Ad` (in the area, outside every obstacle).
     pub fn in_ad(&self, p: Point) -> bool {
         self.area.contains(p) && !self.obstacles.iter().any(|o| o.contains(p))
+    }
+
+    /// The detected fraction of `Ad` once robots have stood on the
+    /// `visited` vertices: a run's `coverage`, on the engines' raster.
+    pub fn detected_fraction_of(&self, visited: &Bitset) -> f64 {
+        let centres = visited.iter().map(|v| self.grid.position(v as VertexId));
+        self.raster(crate::engine::RASTER_CELL * self.params.a).detected_fraction(centres, self.params.r_st)
     }
 
     /// A raster of `Ad` with cells of side `h`, for the detected fraction.

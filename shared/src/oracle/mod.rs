@@ -34,8 +34,6 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::bitset::Bitset;
-use crate::engine::RASTER_CELL;
-use crate::geometry::Point;
 use crate::grid::VertexId;
 use crate::outcome::{Pose, RunConfig, RunResult};
 use crate::params::Situation;
@@ -206,10 +204,7 @@ impl<'a> Search<'a> {
         } else {
             "no_robots"
         };
-        let coverage = self.cfg.measure_coverage.then(|| {
-            let centres: Vec<Point> = self.exec.visited.iter().map(|v| world.grid.position(v as VertexId)).collect();
-            world.raster(RASTER_CELL * world.params.a).detected_fraction(centres, world.params.r_st)
-        });
+        let coverage = self.cfg.measure_coverage.then(|| world.detected_fraction_of(&self.exec.visited));
         RunResult {
             algorithm: Policy::Oracle,
             robots: n,

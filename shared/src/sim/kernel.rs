@@ -8,7 +8,6 @@ use std::rc::Rc;
 use super::medium::Medium;
 use super::stats::{FailureRecord, ProtocolStats};
 use super::{micros, seconds, Delivery, Fault, FaultKind, Motor, Note, Output, Robots, Tick, Time, WakeCall};
-use crate::engine::RASTER_CELL;
 use crate::geometry::Point;
 use crate::grid::VertexId;
 use crate::map::RobotId;
@@ -738,10 +737,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 self.stats.failures[i].unaware.push(w);
             }
         }
-        let coverage = self.cfg.measure_coverage.then(|| {
-            let centres: Vec<Point> = self.referee.visited().iter().map(|v| world.grid.position(v as VertexId)).collect();
-            world.raster(RASTER_CELL * world.params.a).detected_fraction(centres, world.params.r_st)
-        });
+        let coverage = self.cfg.measure_coverage.then(|| world.detected_fraction_of(self.referee.visited()));
         let search_time_s = self.stats.stop_s.unwrap_or_else(|| self.round_end_times.last().copied().unwrap_or(0.0));
         RunResult {
             algorithm: self.cfg.policy,
