@@ -260,6 +260,13 @@ struct Robot {
     rng: ChaCha8Rng,
 }
 
+impl Robot {
+    /// At rest, with a new flight due.
+    fn new(rng: ChaCha8Rng) -> Self {
+        Robot { heading: Vector::zeros(), facing: Vector::zeros(), rem: 0.0, step: 0.0, moving: false, repelled: false, rng }
+    }
+}
+
 /// Starts a flight for `r` at a point where the obstacles push with `f_obs`.
 fn new_flight(r: &mut Robot, f_obs: Vector, levy: &Mantegna, lfp: &LfpParams, a: f64) {
     r.heading = match lfp.turn {
@@ -340,17 +347,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
     let mut pos: Vec<Point> = starts.iter().map(|&v| world.grid.position(v)).collect();
     let mut next = pos.clone();
     let mut pushes = Vec::with_capacity(n);
-    let mut robots: Vec<Robot> = (0..n)
-        .map(|k| Robot {
-            heading: Vector::zeros(),
-            facing: Vector::zeros(),
-            rem: 0.0,
-            step: 0.0,
-            moving: false,
-            repelled: false,
-            rng: rng::robot_rng(cfg.seed, k as u16),
-        })
-        .collect();
+    let mut robots: Vec<Robot> = (0..n).map(|k| Robot::new(rng::robot_rng(cfg.seed, k as u16))).collect();
 
     // Found targets are broadcast, so one shared list of those still missing.
     let mut missing: Vec<u32> = (0..world.targets.len() as u32).collect();

@@ -316,15 +316,7 @@ fn mean_turn_cos(turn: Turn) -> f64 {
     use rand::SeedableRng;
     let lfp = LfpParams { turn, ..LfpParams::default() };
     let levy = Mantegna::new(lfp.beta);
-    let mut r = Robot {
-        heading: Vector::zeros(),
-        facing: Vector::zeros(),
-        rem: 0.0,
-        step: 0.0,
-        moving: false,
-        repelled: false,
-        rng: ChaCha8Rng::seed_from_u64(11),
-    };
+    let mut r = Robot::new(ChaCha8Rng::seed_from_u64(11));
     new_flight(&mut r, Vector::zeros(), &levy, &lfp, 1.0);
     let n = 20_000;
     let mut sum = 0.0;
