@@ -2,6 +2,7 @@
 //! algorithm with its 95% interval, labelled as in the paper's Fig. 7.
 
 use gridswarm::policy::Policy;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::stats::CellStats;
@@ -37,6 +38,34 @@ pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
         .background_style(WHITE.mix(0.9))
         .border_style(BLACK)
         .label_font(("sans-serif", size))
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
+/// The axes of every figure of seconds against robot counts `x0..=x1`:
+/// whole counts only on x (at most 21 labels), whole seconds on y.
+pub(crate) fn robots_axes<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    x0: f64,
+    x1: f64,
+    y_desc: &str,
+) -> Result<(), String> {
+    chart
+        .configure_mesh()
+        .x_desc("number of robots")
+        .y_desc(y_desc)
+        .axis_desc_style(("sans-serif", 16))
+        .label_style(("sans-serif", 13))
+        .x_labels(((x1 - x0).round() as usize).clamp(1, 20) + 1)
+        .x_label_formatter(&|x| {
+            if (x - x.round()).abs() < 1e-6 {
+                format!("{}", x.round() as i64)
+            } else {
+                String::new()
+            }
+        })
+        .y_label_formatter(&|y| format!("{y:.0}"))
+        .light_line_style(WHITE.mix(0.0))
         .draw()
         .map_err(|e| e.to_string())
 }
@@ -80,25 +109,7 @@ pub fn fig7_svg(cells: &[CellStats], algorithms: &[Policy], title: &str) -> Resu
             .y_label_area_size(70)
             .build_cartesian_2d((x0 - 0.5)..(x1 + 0.5), 0.0..y1)
             .map_err(|e| e.to_string())?;
-        let whole = (x1 - x0).round() as usize;
-        chart
-            .configure_mesh()
-            .x_desc("number of robots")
-            .y_desc("average search time (s); bars: 95% CI of the mean")
-            .axis_desc_style(("sans-serif", 16))
-            .label_style(("sans-serif", 13))
-            .x_labels(whole.clamp(1, 20) + 1)
-            .x_label_formatter(&|x| {
-                if (x - x.round()).abs() < 1e-6 {
-                    format!("{}", x.round() as i64)
-                } else {
-                    String::new()
-                }
-            })
-            .y_label_formatter(&|y| format!("{y:.0}"))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        robots_axes(&mut chart, x0, x1, "average search time (s); bars: 95% CI of the mean")?;
         let cap = 0.12;
         for (p, v) in &points {
             let c = colour(*p);

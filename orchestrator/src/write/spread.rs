@@ -143,24 +143,7 @@ pub fn svg(spreads: &[Spread]) -> Result<String, String> {
             .y_label_area_size(70)
             .build_cartesian_2d((x0 - 0.5)..(x1 + 0.5), 0.0..y1)
             .map_err(|e| e.to_string())?;
-        chart
-            .configure_mesh()
-            .x_desc("number of robots")
-            .y_desc("per-map mean search time (s)")
-            .axis_desc_style(("sans-serif", 16))
-            .label_style(("sans-serif", 13))
-            .x_labels(((x1 - x0).round() as usize).clamp(1, 20) + 1)
-            .x_label_formatter(&|x| {
-                if (x - x.round()).abs() < 1e-6 {
-                    format!("{}", x.round() as i64)
-                } else {
-                    String::new()
-                }
-            })
-            .y_label_formatter(&|y| format!("{y:.0}"))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        crate::plot::robots_axes(&mut chart, x0, x1, "per-map mean search time (s)")?;
         let n = algorithms.len().max(1) as f64;
         for (k, &p) in algorithms.iter().enumerate() {
             let c = crate::plot::colour(p);
