@@ -2,12 +2,11 @@
 //! reproducible; bad input fails with one `error:` line, never a panic.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-fn gridswarm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gridswarm")).args(args).output().expect("the binary runs")
-}
+mod common;
+use common::{assert_ok, gridswarm, scratch};
 
 fn gridswarm_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_gridswarm"));
@@ -18,24 +17,12 @@ fn gridswarm_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     c.output().expect("the binary runs")
 }
 
-/// A fresh directory for one test, under cargo's per-target temp dir.
-fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli").join(name);
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
 fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn assert_ok(o: &Output) {
-    assert!(o.status.success(), "exit {:?}\nstdout:\n{}\nstderr:\n{}", o.status, stdout(o), stderr(o));
 }
 
 /// Fails cleanly: non-zero, an `error:` line, no panic.

@@ -3,27 +3,9 @@
 //! writes which map every number is from and shows the spread over maps.
 
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn gridswarm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gridswarm")).args(args).output().expect("the binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("maps").join(name);
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn assert_ok(o: &Output) {
-    assert!(o.status.success(), "exit {:?}\nstdout:\n{}\nstderr:\n{}", o.status, text(&o.stdout), text(&o.stderr));
-}
+mod common;
+use common::{assert_ok, gridswarm, scratch, text};
 
 #[test]
 fn check_passes_random_maps_and_fails_the_broken_one() {

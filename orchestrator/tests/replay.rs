@@ -4,8 +4,8 @@
 //! browser in `browser.rs`.
 
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
@@ -16,24 +16,8 @@ use gridswarm_orchestrator::replay::{self, Recorded};
 use gridswarm_orchestrator::rundir::{self, RunRecord};
 use serde_json::{json, Value};
 
-fn gridswarm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gridswarm")).args(args).output().expect("the binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("replay").join(name);
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn assert_ok(o: &Output) {
-    assert!(o.status.success(), "exit {:?}\nstdout:\n{}\nstderr:\n{}", o.status, text(&o.stdout), text(&o.stderr));
-}
+mod common;
+use common::{assert_ok, gridswarm, scratch, text};
 
 /// Non-zero exit, exactly one `error:` line that mentions `needle`, no panic.
 fn assert_clean_error(o: &Output, needle: &str) {
