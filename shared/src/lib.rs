@@ -9,6 +9,7 @@
 
 pub mod bitset;
 pub mod geometry;
+pub mod near;
 pub mod grid;
 pub mod lattice;
 pub mod params;

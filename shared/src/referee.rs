@@ -15,7 +15,8 @@
 //! are not checked against other robots' (the penalty is the model).
 
 use crate::bitset::Bitset;
-use crate::geometry::swept_min_distance;
+use crate::geometry::{swept_min_distance, Point};
+use crate::near::Cells;
 use crate::grid::{VertexId, NONE};
 use crate::lattice::Coord;
 use crate::params::RuCollisions;
@@ -53,6 +54,10 @@ pub struct Referee<'w> {
     ending: Vec<u16>,
     /// The pairs counted this round.
     pairs: Vec<(u16, u16)>,
+    /// Robots' start points this round, in cells of the reach within
+    /// which two can meet (many robots: not every pair is looked at).
+    starts: Vec<Point>,
+    cells: Cells,
     /// Draws who gets through a collision.
     seed: u64,
     round: u64,
@@ -71,6 +76,8 @@ impl<'w> Referee<'w> {
             involved: vec![false; starts.len()],
             ending: Vec::new(),
             pairs: Vec::new(),
+            starts: Vec::new(),
+            cells: Cells::new(Self::reach(world)),
             seed: 0,
             round: 0,
         };
@@ -280,22 +287,34 @@ impl<'w> Referee<'w> {
 
     /// Pairs closer than `2 r_safe` at any moment of the simultaneous moves;
     /// marks the robots in them in `involved`.
+    /// Two robots further apart than this at the start of a move cannot meet.
+    fn reach(world: &World) -> f64 {
+        2.0 * world.params.a + 2.0 * world.params.r_safe
+    }
+
     fn count_collisions(&mut self, target: &[VertexId]) -> u32 {
         let grid = &self.world.grid;
         let params = &self.world.params;
         let limit = 2.0 * params.r_safe;
-        // Two robots further apart than this at the start cannot meet.
-        let reach2 = (2.0 * params.a + limit).powi(2);
-        let mut count = 0;
+        let reach2 = Self::reach(self.world).powi(2);
         self.involved.clear();
         self.involved.resize(target.len(), false);
         self.pairs.clear();
+        let mut cells = std::mem::take(&mut self.cells);
+        let mut starts = std::mem::take(&mut self.starts);
+        starts.clear();
+        starts.extend(self.pos.iter().map(|&v| grid.position(v)));
+        let few = target.len() <= 64;
+        if !few {
+            cells.fill(&starts);
+        }
+        let mut count = 0;
         for i in 0..target.len() {
-            let (p0, p1) = (grid.position(self.pos[i]), grid.position(target[i]));
-            for j in i + 1..target.len() {
-                let q0 = grid.position(self.pos[j]);
-                if (q0 - p0).norm_squared() > reach2 {
-                    continue;
+            let (p0, p1) = (starts[i], grid.position(target[i]));
+            let mut test = |j: usize| {
+                let q0 = starts[j];
+                if j <= i || (q0 - p0).norm_squared() > reach2 {
+                    return;
                 }
                 let q1 = grid.position(target[j]);
                 if target[i] == target[j] || swept_min_distance(p0, p1, q0, q1) < limit {
@@ -304,8 +323,15 @@ impl<'w> Referee<'w> {
                     self.involved[j] = true;
                     self.pairs.push((i as u16, j as u16));
                 }
+            };
+            if few {
+                (i + 1..target.len()).for_each(&mut test);
+            } else {
+                cells.around(p0, |j| test(j as usize));
             }
         }
+        self.cells = cells;
+        self.starts = starts;
         count
     }
 

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::Time;
 use crate::geometry::Point;
+use crate::near::Cells;
 use crate::rng::mix;
 
 /// Radio impairments of a run, per transmission and per link.
@@ -48,10 +49,9 @@ pub struct Medium {
     radio: Radio,
     hop: Time,
     r_c2: f64,
-    cell: f64,
     /// `links[k]`: robots within `r_c` of robot `k`, ascending.
     links: Vec<Vec<u32>>,
-    buckets: Vec<(i64, i64, u32)>,
+    cells: Cells,
 }
 
 /// A uniform number in `[0, 1)` from a hash.
@@ -66,9 +66,8 @@ impl Medium {
             radio,
             hop,
             r_c2: r_c * r_c,
-            cell: r_c.max(1e-9),
             links: vec![Vec::new(); robots],
-            buckets: Vec::with_capacity(robots),
+            cells: Cells::new(r_c),
         }
     }
 
@@ -77,7 +76,7 @@ impl Medium {
     }
 
     /// Recomputes the links from the bodies' positions (once a slot: bodies
-    /// move only between slots). Buckets of side `r_c` keep it near linear.
+    /// move only between slots). Cells of side `r_c` keep it near linear.
     pub fn relink(&mut self, positions: &[Point]) {
         if positions.len() <= 64 {
             // Few robots: every pair, no sorting.
@@ -92,30 +91,17 @@ impl Medium {
             }
             return;
         }
-        self.buckets.clear();
-        for (k, p) in positions.iter().enumerate() {
-            let c = ((p.x / self.cell).floor() as i64, (p.y / self.cell).floor() as i64);
-            self.buckets.push((c.0, c.1, k as u32));
-        }
-        self.buckets.sort_unstable();
-        for l in &mut self.links {
+        self.cells.fill(positions);
+        for (k, &p) in positions.iter().enumerate() {
+            let l = &mut self.links[k];
             l.clear();
-        }
-        for &(cx, cy, k) in &self.buckets {
-            let p = positions[k as usize];
-            for dx in -1..=1 {
-                let x = cx + dx;
-                let lo = self.buckets.partition_point(|b| (b.0, b.1) < (x, cy - 1));
-                for &(bx, by, j) in &self.buckets[lo..] {
-                    if bx != x || by > cy + 1 {
-                        break;
-                    }
-                    if j != k && (positions[j as usize] - p).norm_squared() <= self.r_c2 {
-                        self.links[k as usize].push(j);
-                    }
+            let r_c2 = self.r_c2;
+            self.cells.around(p, |j| {
+                if j as usize != k && (positions[j as usize] - p).norm_squared() <= r_c2 {
+                    l.push(j);
                 }
-            }
-            self.links[k as usize].sort_unstable();
+            });
+            l.sort_unstable();
         }
     }
 
