@@ -8,50 +8,58 @@ use std::str::FromStr;
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RobotCounts(pub Vec<usize>);
 
-/// Large enough for any scenario the project ships, small enough that a typo
-/// such as `1-1300` fails at once instead of after hours.
-pub const MAX_ROBOTS: usize = 1000;
+/// The radio's id space ([`gridswarm::scenario::limits::MAX_ROBOTS`]):
+/// whether a map has room for that many is the scenario's to say, when
+/// robots are placed (an error naming how many vertices it has).
+pub const MAX_ROBOTS: usize = gridswarm::scenario::limits::MAX_ROBOTS;
+/// Counts one list may name, so that a typo such as `1-13000` fails at
+/// once instead of after hours.
+pub const MAX_COUNTS: usize = 1000;
 
 impl FromStr for RobotCounts {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        let mut out = Vec::new();
-        for part in s.split(',') {
-            let part = part.trim();
-            if part.is_empty() {
-                return Err(format!("bad robot counts `{s}`: empty item"));
-            }
-            let (lo, hi) = match part.split_once('-') {
-                Some((a, b)) => (count(a, s)?, count(b, s)?),
-                None => {
-                    let n = count(part, s)?;
-                    (n, n)
-                }
-            };
-            if lo > hi {
-                return Err(format!("bad robot range `{part}`: {lo} is greater than {hi}"));
-            }
-            out.extend(lo..=hi);
-        }
-        out.sort_unstable();
-        out.dedup();
-        Ok(RobotCounts(out))
+        counts(s, "robot counts", 1).map(RobotCounts)
     }
 }
 
-fn count(text: &str, whole: &str) -> Result<usize, String> {
-    let n: usize = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("bad robot counts `{whole}`: `{}` is not a whole number", text.trim()))?;
-    if n == 0 {
-        return Err(format!("bad robot counts `{whole}`: at least 1 robot is needed"));
+/// A list of counts (`1-3,8`), sorted and distinct, each in
+/// `least..=MAX_ROBOTS`, at most [`MAX_COUNTS`] of them. Errors start with
+/// `bad <what>`.
+pub fn counts(s: &str, what: &str, least: usize) -> Result<Vec<usize>, String> {
+    let count = |text: &str| -> Result<usize, String> {
+        let n: usize =
+            text.trim().parse().map_err(|_| format!("bad {what} `{s}`: `{}` is not a whole number", text.trim()))?;
+        if n < least {
+            return Err(format!("bad {what} `{s}`: at least {least} is needed"));
+        }
+        if n > MAX_ROBOTS {
+            return Err(format!("bad {what} `{s}`: at most {MAX_ROBOTS} robots"));
+        }
+        Ok(n)
+    };
+    let mut out = Vec::new();
+    for part in s.split(',') {
+        let part = part.trim();
+        if part.is_empty() {
+            return Err(format!("bad {what} `{s}`: empty item"));
+        }
+        let (lo, hi) = match part.split_once('-') {
+            Some((a, b)) => (count(a)?, count(b)?),
+            None => (count(part)?, count(part)?),
+        };
+        if lo > hi {
+            return Err(format!("bad {what} range `{part}`: {lo} is greater than {hi}"));
+        }
+        if hi - lo >= MAX_COUNTS || out.len() + (hi - lo + 1) > MAX_COUNTS {
+            return Err(format!("bad {what} `{s}`: more than {MAX_COUNTS} counts"));
+        }
+        out.extend(lo..=hi);
     }
-    if n > MAX_ROBOTS {
-        return Err(format!("bad robot counts `{whole}`: at most {MAX_ROBOTS} robots"));
-    }
-    Ok(n)
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
 }
 
 /// Sorted counts in the command line's own form: `[1, 2, 3, 5]` -> `1-3,5`.
@@ -102,9 +110,17 @@ mod tests {
 
     #[test]
     fn rejects() {
-        for bad in ["0", "5-2", "", "1,", "a", "1-", "-3", "0-4", "1-100000", "2.5"] {
+        for bad in ["0", "5-2", "", "1,", "a", "1-", "-3", "0-4", "1-100000", "1-2000", "2.5"] {
             assert!(p(bad).is_err(), "{bad:?} accepted");
         }
         assert!(p("5-2").unwrap_err().contains("5 is greater than 2"));
+        assert!(p("65536").unwrap_err().contains("at most 65535 robots"));
+    }
+
+    #[test]
+    fn big_teams_are_the_map_s_to_refuse() {
+        assert_eq!(p("10000").unwrap(), vec![10000]);
+        assert_eq!(counts("0-2", "killed", 0).unwrap(), vec![0, 1, 2]);
+        assert!(counts("0-2", "killed", 1).unwrap_err().starts_with("bad killed"));
     }
 }

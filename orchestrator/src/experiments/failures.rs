@@ -48,28 +48,7 @@ impl FromStr for Killed {
     type Err = String;
 
     fn from_str(s: &str) -> std::result::Result<Self, String> {
-        let num = |t: &str| -> std::result::Result<usize, String> {
-            t.trim().parse().map_err(|_| format!("bad --killed `{s}`: `{}` is not a whole number", t.trim()))
-        };
-        let mut out = Vec::new();
-        for part in s.split(',') {
-            if part.trim().is_empty() {
-                return Err(format!("bad --killed `{s}`: empty item"));
-            }
-            let (lo, hi) = match part.split_once('-') {
-                Some((a, b)) => (num(a)?, num(b)?),
-                None => (num(part)?, num(part)?),
-            };
-            if lo > hi {
-                return Err(format!("bad --killed range `{}`: {lo} is greater than {hi}", part.trim()));
-            }
-            if hi > crate::robots::MAX_ROBOTS {
-                return Err(format!("bad --killed `{s}`: at most {} robots", crate::robots::MAX_ROBOTS));
-            }
-            out.extend(lo..=hi);
-        }
-        out.sort_unstable();
-        out.dedup();
+        let out = crate::robots::counts(s, "--killed", 0)?;
         Ok(Killed(out))
     }
 }
