@@ -216,8 +216,13 @@ impl World {
     }
 
     /// A raster of `Ad` with cells of side `h`, for the detected fraction.
+    /// Each cell is tested against the area edges and obstacles near it
+    /// only (the same cells as [`World::in_ad`]; a 180 m map with a
+    /// thousand obstacles took 24 s testing them all).
     pub fn raster(&self, h: f64) -> Raster {
         let (lo, hi) = self.area.bounding_box();
+        let near = Near::new(&self.area, &self.obstacles, &[], &self.params, lo, hi);
+        let in_ad = |p: Point| near.inside(p) && !near.obstacles(p, p).any(|k| self.obstacles[k].contains(p));
         let nx = ((hi.x - lo.x) / h).ceil().max(1.0) as usize;
         let ny = ((hi.y - lo.y) / h).ceil().max(1.0) as usize;
         let mut inside = vec![false; nx * ny];
@@ -225,7 +230,7 @@ impl World {
         for y in 0..ny {
             for x in 0..nx {
                 let p = Point::new(lo.x + (x as f64 + 0.5) * h, lo.y + (y as f64 + 0.5) * h);
-                if self.in_ad(p) {
+                if in_ad(p) {
                     inside[y * nx + x] = true;
                     count += 1;
                 }
@@ -361,6 +366,16 @@ mod tests {
             assert_eq!(w.accessible, accessible);
             assert_eq!(w.open, open);
             assert_eq!(w.targets_near, near);
+            // The raster's cells too, at a side that puts cell centres
+            // on and near obstacle and area edges.
+            let r = w.raster(w.params.a / 3.0);
+            let (lo, _) = w.area.bounding_box();
+            let h = w.params.a / 3.0;
+            let tested = (0..r.ny)
+                .flat_map(|y| (0..r.nx).map(move |x| (x, y)))
+                .filter(|&(x, y)| w.in_ad(Point::new(lo.x + (x as f64 + 0.5) * h, lo.y + (y as f64 + 0.5) * h)));
+            assert!(tested.clone().all(|(x, y)| r.inside[y * r.nx + x]));
+            assert_eq!(tested.count(), r.count);
         }
     }
 
