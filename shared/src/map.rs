@@ -9,6 +9,10 @@ use serde::{Deserialize, Serialize};
 use crate::bitset::Bitset;
 use crate::grid::{Grid, VertexId};
 
+pub mod tiles;
+
+use tiles::Tiles;
+
 pub type RobotId = u16;
 
 /// Bit of [`Map::open`] marking a vertex whose surroundings were sensed.
@@ -23,19 +27,15 @@ pub struct Failure {
     pub round: u32,
 }
 
-#[derive(Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// A robot's map. The per-vertex parts live in shared [`tiles`]; on the
+/// wire a map is, as it always was, the flat fields of [`Flat`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Map {
-    /// Vertices some robot has stood on.
-    pub visited: Bitset,
-    /// Vertices known to be accessible: visited ones and the open ends of sensed edges.
-    pub known: Bitset,
-    /// Per vertex: bit `d` set when the edge in slot `d` was sensed traversable;
-    /// [`SENSED`] set once anyone sensed there. (De)serialized as one byte
-    /// string: in postcard the same bytes as a sequence of `u8`, without
-    /// one call per vertex (maps of large scenarios are thousands of bytes
-    /// and every robot sends its map every round).
-    #[serde(with = "byte_string")]
-    pub open: Vec<u8>,
+    /// Per vertex: visited (some robot stood on it), known (accessible:
+    /// visited, or the open end of a sensed edge), and the edge mask (bit
+    /// `d` set when the edge in slot `d` was sensed traversable; [`SENSED`]
+    /// set once anyone sensed there).
+    cells: Tiles,
     /// Target ids known found. It grows as targets are learnt: in situation
     /// 2 a robot does not know how many there are.
     pub targets: Bitset,
@@ -47,63 +47,103 @@ pub struct Map {
     pub alive: Vec<(RobotId, u32)>,
 }
 
-impl Clone for Map {
-    fn clone(&self) -> Self {
-        let mut m = Map {
-            visited: Bitset::default(),
-            known: Bitset::default(),
-            open: Vec::new(),
-            targets: Bitset::default(),
-            failed: Vec::new(),
-            alive: Vec::new(),
-        };
-        m.clone_from(self);
-        m
-    }
+/// A map as it travels: visited and known as bitsets, the edge masks as
+/// one byte string (in postcard the same bytes as a sequence of `u8`,
+/// without one call per vertex).
+#[derive(Serialize, Deserialize)]
+#[serde(rename = "Map")]
+struct Flat<T, F, A> {
+    visited: Bitset,
+    known: Bitset,
+    #[serde(with = "byte_string")]
+    open: Vec<u8>,
+    targets: T,
+    failed: F,
+    alive: A,
+}
 
-    /// Reuses this map's buffers: a robot sends a copy of its map every
-    /// slot, and the in-process engine hands it back recycled ones.
-    fn clone_from(&mut self, source: &Self) {
-        self.visited.clone_from(&source.visited);
-        self.known.clone_from(&source.known);
-        self.open.clone_from(&source.open);
-        self.targets.clone_from(&source.targets);
-        self.failed.clone_from(&source.failed);
-        self.alive.clone_from(&source.alive);
+impl Serialize for Map {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        Flat {
+            visited: Bitset::from_words(self.cells.words(false).collect()),
+            known: Bitset::from_words(self.cells.words(true).collect()),
+            open: self.cells.open_bytes().collect(),
+            targets: &self.targets,
+            failed: &self.failed,
+            alive: &self.alive,
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Map {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let f = Flat::<Bitset, Vec<Failure>, Vec<(RobotId, u32)>>::deserialize(d)?;
+        let cells = Tiles::from_flat(f.visited.words(), f.known.words(), &f.open).ok_or_else(|| {
+            serde::de::Error::custom("map bitsets sized for another grid than its edge masks, or set past the end")
+        })?;
+        Ok(Map { cells, targets: f.targets, failed: f.failed, alive: f.alive })
     }
 }
 
 impl Map {
     pub fn new(vertices: usize, targets: usize) -> Self {
-        Map {
-            visited: Bitset::new(vertices),
-            known: Bitset::new(vertices),
-            open: vec![0; vertices],
-            targets: Bitset::new(targets),
-            failed: Vec::new(),
-            alive: Vec::new(),
-        }
+        Map { cells: Tiles::new(vertices), targets: Bitset::new(targets), failed: Vec::new(), alive: Vec::new() }
+    }
+
+    /// Vertices of the grid it describes.
+    pub fn vertices(&self) -> usize {
+        self.cells.vertices()
+    }
+
+    /// Some robot has stood on `v`.
+    pub fn visited(&self, v: VertexId) -> bool {
+        self.cells.visited(v as usize)
+    }
+
+    /// `v` is known accessible.
+    pub fn known(&self, v: VertexId) -> bool {
+        self.cells.known(v as usize)
+    }
+
+    /// The edge mask sensed at `v` ([`SENSED`] once anyone sensed there).
+    pub fn open(&self, v: VertexId) -> u8 {
+        self.cells.open(v as usize)
+    }
+
+    pub fn set_visited(&mut self, v: VertexId, on: bool) {
+        self.cells.set_visited(v as usize, on);
+    }
+
+    pub fn set_known(&mut self, v: VertexId, on: bool) {
+        self.cells.set_known(v as usize, on);
+    }
+
+    /// Adds `bits` to the edge mask of `v`.
+    pub fn or_open(&mut self, v: VertexId, bits: u8) {
+        self.cells.or_open(v as usize, bits);
+    }
+
+    /// The per-vertex parts, for tests of how copies share them.
+    pub fn cells(&self) -> &Tiles {
+        &self.cells
     }
 
     /// Records what a robot standing on `v` senses: the open edge slots.
     pub fn record_sensing(&mut self, grid: &Grid, v: VertexId, open: u8) {
-        self.visited.set(v as usize);
-        self.known.set(v as usize);
-        self.open[v as usize] |= open | SENSED;
+        self.set_visited(v, true);
+        self.set_known(v, true);
+        self.or_open(v, open | SENSED);
         for (d, &n) in grid.neighbors(v)[..grid.degree()].iter().enumerate() {
             if open >> d & 1 == 1 {
-                self.known.set(n as usize);
+                self.set_known(n, true);
             }
         }
     }
 
     /// `self ∪= other`: sets by union, failures and rejoins by their latest round.
     pub fn merge(&mut self, other: &Map) {
-        self.visited.union_with(&other.visited);
-        self.known.union_with(&other.known);
-        for (a, b) in self.open.iter_mut().zip(&other.open) {
-            *a |= *b;
-        }
+        self.cells.merge(&other.cells);
         self.targets.union_growing(&other.targets);
         for f in &other.failed {
             self.add_failed(f.robot, f.at, f.round);
@@ -171,21 +211,16 @@ impl Map {
 
     /// Whether some known accessible vertex is not yet visited.
     pub fn has_unvisited(&self) -> bool {
-        self.known.any_not_in(&self.visited)
+        self.cells.any_known_unvisited()
     }
 
     /// Whether the edge `v` → slot `d` is known traversable, sensed from either end.
     pub fn edge_open(&self, grid: &Grid, v: VertexId, d: usize) -> bool {
-        if self.open[v as usize] >> d & 1 == 1 {
+        if self.open(v) >> d & 1 == 1 {
             return true;
         }
         let n = grid.neighbors(v)[d];
-        self.open[n as usize] >> grid.opposite(d) & 1 == 1
-    }
-
-    /// Copies `other` into `self`, reusing `self`'s buffers.
-    pub fn copy_from(&mut self, other: &Map) {
-        self.clone_from(other);
+        self.open(n) >> grid.opposite(d) & 1 == 1
     }
 
     /// Checks a map that came from elsewhere against the grid it claims to
@@ -193,23 +228,17 @@ impl Map {
     /// `targets` is the largest number of target ids a map may hold.
     pub fn validate(&self, vertices: usize, targets: usize, robots: usize) -> Result<(), String> {
         let words = |bits: usize| bits.div_ceil(64);
-        if self.visited.words().len() != words(vertices) || self.known.words().len() != words(vertices) {
-            return Err(format!("map bitsets sized for another grid (expected {vertices} vertices)"));
-        }
-        if self.open.len() != vertices {
-            return Err(format!("map has {} open masks, expected {vertices}", self.open.len()));
+        if self.vertices() != vertices {
+            return Err(format!("map sized for another grid (expected {vertices} vertices)"));
         }
         if self.targets.words().len() > words(targets) {
             return Err(format!("map target set larger than {targets} targets"));
         }
-        // Any bit at or past `n`, word by word (sizes were checked above).
-        let past = |b: &Bitset, n: usize| {
-            let w = b.words();
+        let past = |w: &[u64], n: usize| {
             let (full, rem) = (n / 64, n % 64);
-            (rem > 0 && w.get(full).is_some_and(|&x| x >> rem != 0))
-                || w.iter().skip(full + usize::from(rem > 0)).any(|&x| x != 0)
+            (rem > 0 && w.get(full).is_some_and(|&x| x >> rem != 0)) || w.iter().skip(full + usize::from(rem > 0)).any(|&x| x != 0)
         };
-        if past(&self.visited, vertices) || past(&self.known, vertices) || past(&self.targets, targets) {
+        if self.cells.past_end() || past(self.targets.words(), targets) {
             return Err("map sets a bit past the end".into());
         }
         if self.failed.windows(2).any(|w| w[0].robot >= w[1].robot) || self.alive.windows(2).any(|w| w[0].0 >= w[1].0) {
@@ -269,40 +298,95 @@ mod byte_string {
 mod tests {
     use super::*;
 
-    /// The same fields, with `open` as a plain sequence: the encoding before.
+    /// The same fields, flat, with `open` as a plain sequence: the encoding before tiles.
     #[derive(Serialize)]
     struct Plain<'a> {
-        visited: &'a Bitset,
-        known: &'a Bitset,
-        open: &'a Vec<u8>,
+        visited: Bitset,
+        known: Bitset,
+        open: Vec<u8>,
         targets: &'a Bitset,
         failed: &'a Vec<Failure>,
         alive: &'a Vec<(RobotId, u32)>,
     }
 
     #[test]
-    fn open_masks_encode_as_before_and_round_trip() {
+    fn maps_encode_as_flat_fields_and_round_trip() {
         let mut m = Map::new(300, 9);
-        m.visited.set(3);
-        m.known.set(299);
-        m.open[7] = 0x81;
-        m.open[299] = 0xff;
+        m.set_visited(3, true);
+        m.set_known(299, true);
+        m.or_open(7, 0x81);
+        m.or_open(299, 0xff);
         m.targets.set(8);
         m.add_failed(2, 50, 1);
         m.revive(1, 3);
-        let plain = Plain { visited: &m.visited, known: &m.known, open: &m.open, targets: &m.targets, failed: &m.failed, alive: &m.alive };
+        let (mut visited, mut known, mut open) = (Bitset::new(300), Bitset::new(300), vec![0u8; 300]);
+        visited.set(3);
+        known.set(299);
+        open[7] = 0x81;
+        open[299] = 0xff;
+        let plain = Plain { visited, known, open, targets: &m.targets, failed: &m.failed, alive: &m.alive };
         let bytes = postcard::to_allocvec(&m).unwrap();
         assert_eq!(bytes, postcard::to_allocvec(&plain).unwrap());
         assert_eq!(postcard::from_bytes::<Map>(&bytes).unwrap(), m);
         assert_eq!(m.validate(300, 9, 3), Ok(()));
         // A bit past the end of the grid, in the last word or beyond.
         let mut bad = m.clone();
-        bad.visited.set(300);
+        bad.set_visited(300, true);
         assert!(bad.validate(300, 9, 3).is_err());
         let mut bad = m.clone();
-        bad.known.set(319);
+        bad.set_known(319, true);
         assert!(bad.validate(300, 9, 3).is_err());
         assert!(m.validate(320, 9, 3).is_err(), "sized for another grid");
+        // On the wire: bitsets sized for another grid, or set past the end.
+        let mut plain = plain;
+        plain.visited = Bitset::new(400);
+        assert!(postcard::from_bytes::<Map>(&postcard::to_allocvec(&plain).unwrap()).is_err());
+        plain.visited = Bitset::new(300);
+        plain.visited.set(301);
+        assert!(postcard::from_bytes::<Map>(&postcard::to_allocvec(&plain).unwrap()).is_err());
+    }
+
+    /// Sets on three vertices of a map: a visited and known flag and an edge mask each.
+    fn marked(n: usize, marks: &[(usize, u8)]) -> Map {
+        let mut m = Map::new(n, 0);
+        for &(v, bits) in marks {
+            let v = (v % n) as VertexId;
+            m.set_visited(v, bits & 1 == 1);
+            m.set_known(v, bits & 2 == 2);
+            m.or_open(v, bits);
+        }
+        m
+    }
+
+    proptest::proptest! {
+        /// Merging tiles gives what merging the flat fields gives, shares
+        /// what it can, and copies share everything until they change.
+        #[test]
+        fn tiles_merge_as_flat_unions(
+            n in 1usize..1200,
+            a in proptest::collection::vec((0usize..1200, proptest::prelude::any::<u8>()), 0..40),
+            b in proptest::collection::vec((0usize..1200, proptest::prelude::any::<u8>()), 0..40),
+        ) {
+            let (ma, mb) = (marked(n, &a), marked(n, &b));
+            let mut ab = ma.clone();
+            proptest::prop_assert_eq!(ab.cells().unshared(), 0);
+            ab.merge(&mb);
+            for v in 0..n as VertexId {
+                proptest::prop_assert_eq!(ab.visited(v), ma.visited(v) || mb.visited(v));
+                proptest::prop_assert_eq!(ab.known(v), ma.known(v) || mb.known(v));
+                proptest::prop_assert_eq!(ab.open(v), ma.open(v) | mb.open(v));
+                // A tile of `b` that holds all of `a`'s is taken whole.
+                let only_b = (0..n as VertexId).filter(|&u| u as usize / tiles::TILE == v as usize / tiles::TILE)
+                    .all(|u| (!ma.visited(u) || mb.visited(u)) && (!ma.known(u) || mb.known(u)) && ma.open(u) & !mb.open(u) == 0);
+                if only_b {
+                    proptest::prop_assert!(ab.cells().shares(mb.cells(), v as usize));
+                }
+            }
+            let mut ba = mb.clone();
+            ba.merge(&ma);
+            proptest::prop_assert_eq!(&ab, &ba);
+            proptest::prop_assert_eq!(ab.has_unvisited(), (0..n as VertexId).any(|v| ab.known(v) && !ab.visited(v)));
+        }
     }
 
     #[test]

@@ -161,9 +161,9 @@ mod tests {
 
     fn a_map() -> Map {
         let mut m = Map::new(100, 9);
-        m.visited.set(3);
-        m.known.set(4);
-        m.open[3] = 0x81;
+        m.set_visited(3, true);
+        m.set_known(4, true);
+        m.or_open(3, 0x81);
         m.targets.set(8);
         m.add_failed(2, 50, 1);
         m

@@ -216,10 +216,10 @@ impl<'g> Robot<'g> {
     /// claim would keep the others from ever going there.
     fn drop_claims(&mut self) {
         for (v, new) in self.claims.drain(..) {
-            if self.map.open[v as usize] & SENSED == 0 {
-                self.map.visited.clear(v as usize);
+            if self.map.open(v) & SENSED == 0 {
+                self.map.set_visited(v, false);
                 if new {
-                    self.map.known.clear(v as usize);
+                    self.map.set_known(v, false);
                 }
             }
         }
@@ -387,12 +387,12 @@ impl<'g> Robot<'g> {
         match self.neighbour(from, at) {
             Some(n) => {
                 n.choice = Some(next);
-                if self.cfg.choices_update_maps && self.cfg.policy.sequential() && !self.map.visited.get(next as usize) {
+                if self.cfg.choices_update_maps && self.cfg.policy.sequential() && !self.map.visited(next) {
                     // "the receivers will update their maps": the vertex
                     // counts as visited for the rest of the round.
-                    let new = !self.map.known.get(next as usize);
-                    self.map.visited.set(next as usize);
-                    self.map.known.set(next as usize);
+                    let new = !self.map.known(next);
+                    self.map.set_visited(next, true);
+                    self.map.set_known(next, true);
                     self.claims.push((next, new));
                 }
                 true

@@ -291,9 +291,9 @@ fn map() -> impl Strategy<Value = Map> {
         .prop_flat_map(|(visited, known, open, targets)| {
             prop::collection::vec((0u16..13, 0u32..100, any::<u32>()), 0..3).prop_map(move |failed| {
                 let mut m = Map::new(100, 9);
-                visited.iter().for_each(|&v| m.visited.set(v));
-                known.iter().for_each(|&v| m.known.set(v));
-                open.iter().for_each(|&(v, b)| m.open[v] = b);
+                visited.iter().for_each(|&v| m.set_visited(v as u32, true));
+                known.iter().for_each(|&v| m.set_known(v as u32, true));
+                open.iter().for_each(|&(v, b)| m.or_open(v as u32, b));
                 targets.iter().for_each(|&t| m.targets.set(t));
                 for &(r, at, round) in &failed {
                     m.add_failed(r, at, round);

@@ -52,7 +52,7 @@ fn rule_1_prefers_unvisited_uniformly() {
     let visited: Vec<_> = (0..3).map(|d| slot(g, v, d)).collect();
     let mut seen = BTreeSet::new();
     let mut m = visited_map(g, &visited);
-    m.visited.set(v as usize);
+    m.set_visited(v, true);
     for seed in 0..200 {
         // (1)&(3) uses rule (1) whatever its neighbours; robot 9 only brings the map.
         let mut r = robot(g, Policy::Sequential, seed, 0, v);
@@ -338,13 +338,13 @@ fn a_heard_choice_marks_its_vertex_visited_for_the_round() {
         r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
         r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
         r.receive_choice(1, j_at, j_to);
-        assert_eq!(r.map().visited.get(j_to as usize), on, "marked only with the reading on");
+        assert_eq!(r.map().visited(j_to), on, "marked only with the reading on");
         r.choose().unwrap();
         // Next round: nobody sensed there (the chooser's map has not come),
         // so the claim is dropped and the vertex is unvisited again.
         r.sense(1, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
-        assert!(!r.map().visited.get(j_to as usize));
-        assert!(!r.map().known.get(j_to as usize), "it was not known before the claim");
+        assert!(!r.map().visited(j_to));
+        assert!(!r.map().known(j_to), "it was not known before the claim");
     }
     // A claim the chooser's own map confirms within the round stays.
     let mut r = robot(g, Policy::Sequential, 1, 0, v);
@@ -352,12 +352,12 @@ fn a_heard_choice_marks_its_vertex_visited_for_the_round() {
     r.receive_choice(1, j_at, j_to);
     r.receive_map(1, j_at, &visited_map(g, &[j_to]), false);
     r.sense(1, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
-    assert!(r.map().visited.get(j_to as usize));
+    assert!(r.map().visited(j_to));
     // RU exchanges no choices: nothing to mark.
     let mut r = robot(g, Policy::Ru, 1, 0, v);
     r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
     r.receive_choice(1, j_at, j_to);
-    assert!(!r.map().visited.get(j_to as usize));
+    assert!(!r.map().visited(j_to));
 }
 
 /// A registered rule: always the last candidate.

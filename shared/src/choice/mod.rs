@@ -81,7 +81,7 @@ pub struct View<'a> {
 
 impl View<'_> {
     pub fn visited(&self, v: VertexId) -> bool {
-        self.map.visited.get(v as usize)
+        self.map.visited(v)
     }
 
     /// The candidates split into (unvisited, visited), each in slot order.

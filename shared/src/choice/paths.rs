@@ -54,7 +54,7 @@ impl Paths {
                 return Some(v);
             }
             for (d, &w) in grid.neighbors(v)[..grid.degree()].iter().enumerate() {
-                if w == NONE || self.stamp[w as usize] == g || !map.known.get(w as usize) || !map.edge_open(grid, v, d) {
+                if w == NONE || self.stamp[w as usize] == g || !map.known(w) || !map.edge_open(grid, v, d) {
                     continue;
                 }
                 self.stamp[w as usize] = g;
@@ -71,7 +71,7 @@ impl Paths {
     /// when none is reachable.
     pub fn step_to_unvisited(&mut self, grid: &Grid, map: &Map, from: VertexId, blocked: &[VertexId]) -> Option<VertexId> {
         let g = self.start(grid.len(), &[from], blocked);
-        let v = self.run(grid, map, g, |_, v| v != from && !map.visited.get(v as usize))?;
+        let v = self.run(grid, map, g, |_, v| v != from && !map.visited(v))?;
         Some(self.first[v as usize])
     }
 
@@ -108,7 +108,7 @@ impl Paths {
             if level.is_some_and(|l| d > l) {
                 return true;
             }
-            if v != from && !map.visited.get(v as usize) && accept(v, d) {
+            if v != from && !map.visited(v) && accept(v, d) {
                 level = Some(d);
                 out.push(v);
             }
