@@ -60,6 +60,16 @@ impl Tile {
     }
 }
 
+thread_local! {
+    /// The empty tile, one per thread (a run lives in one): merging it
+    /// adds nothing, and most of a map is empty until late in a search.
+    static EMPTY: Rc<Tile> = Rc::new(Tile::EMPTY);
+}
+
+fn empty() -> Rc<Tile> {
+    EMPTY.with(Rc::clone)
+}
+
 /// The per-vertex parts of a map of `vertices` vertices.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Tiles {
@@ -68,10 +78,9 @@ pub struct Tiles {
 }
 
 impl Tiles {
-    /// Nothing known; every tile is one shared empty tile.
+    /// Nothing known; every tile is the empty tile all maps share.
     pub fn new(vertices: usize) -> Self {
-        let empty = Rc::new(Tile::EMPTY);
-        Tiles { vertices, tiles: vec![empty; vertices.div_ceil(TILE)] }
+        Tiles { vertices, tiles: vec![empty(); vertices.div_ceil(TILE)] }
     }
 
     pub fn vertices(&self) -> usize {
@@ -125,8 +134,9 @@ impl Tiles {
     /// of `other` that holds all of this one's replaces it (shared from
     /// then on). Maps of different sizes merge over the common tiles.
     pub fn merge(&mut self, other: &Tiles) {
+        let empty = empty();
         for (mine, theirs) in self.tiles.iter_mut().zip(&other.tiles) {
-            if Rc::ptr_eq(mine, theirs) {
+            if Rc::ptr_eq(mine, theirs) || Rc::ptr_eq(theirs, &empty) {
                 continue;
             }
             let (more, less) = mine.differences(theirs);
