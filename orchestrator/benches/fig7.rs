@@ -5,24 +5,12 @@
 //! `cargo bench -p gridswarm-orchestrator --bench fig7` (REPS=N to change
 //! the number of repetitions, default 5).
 
-use gridswarm_orchestrator::experiment::{self, ExperimentOptions, DEFAULT_ALGORITHMS};
+use gridswarm_orchestrator::experiment::{self, ExperimentOptions};
 
 fn main() {
     let reps: usize = std::env::var("REPS").ok().and_then(|s| s.parse().ok()).unwrap_or(5);
     let out = std::env::temp_dir().join(format!("gridswarm-bench-{}", std::process::id()));
-    let opts = ExperimentOptions {
-        scenario: "paper".into(),
-        algorithms: DEFAULT_ALGORITHMS.split(',').map(|a| a.parse().expect("known algorithm")).collect(),
-        robots: (1..=13).collect(),
-        runs: 500,
-        seed: 1,
-        situation: None,
-        out: out.clone(),
-        max_rounds: experiment::DEFAULT_MAX_ROUNDS,
-        progress: false,
-        maps: None,
-        verbose: false,
-    };
+    let opts = ExperimentOptions::fig7(500, out.clone());
     println!("threads: {}", rayon::current_num_threads());
     let mut walls = Vec::new();
     let mut rates = Vec::new();

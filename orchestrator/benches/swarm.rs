@@ -12,7 +12,7 @@ use gridswarm::engine::Prepared;
 use gridswarm::outcome::RunConfig;
 use gridswarm::policy::Policy;
 use gridswarm::scenario::Scenario;
-use gridswarm_orchestrator::experiment::{self, ExperimentOptions, DEFAULT_ALGORITHMS};
+use gridswarm_orchestrator::experiment::{self, ExperimentOptions};
 
 /// The largest square random map `MAX_ROBOT_VERTICES` allows 10,000 robots.
 const SCENARIO: &str = "random:1,size=180x180";
@@ -51,19 +51,7 @@ fn main() {
     );
 
     let out = std::env::temp_dir().join(format!("gridswarm-bench-swarm-{}", std::process::id()));
-    let opts = ExperimentOptions {
-        scenario: "paper".into(),
-        algorithms: DEFAULT_ALGORITHMS.split(',').map(|a| a.parse().expect("known algorithm")).collect(),
-        robots: (1..=13).collect(),
-        runs: 50,
-        seed: 1,
-        situation: None,
-        out: out.clone(),
-        max_rounds: experiment::DEFAULT_MAX_ROUNDS,
-        progress: false,
-        maps: None,
-        verbose: false,
-    };
+    let opts = ExperimentOptions::fig7(50, out.clone());
     let (sweep, _) = experiment::run(&opts).expect("the sweep runs");
     let _ = std::fs::remove_dir_all(&out);
     let cores = rayon::current_num_threads() as f64;

@@ -59,6 +59,26 @@ pub struct ExperimentOptions {
     pub verbose: bool,
 }
 
+impl ExperimentOptions {
+    /// The paper's Fig. 7: its four algorithms, 1 to 13 robots on `paper`,
+    /// `runs` runs a cell (500 in the paper), quiet; files go to `out`.
+    pub fn fig7(runs: u32, out: PathBuf) -> Self {
+        ExperimentOptions {
+            scenario: "paper".into(),
+            algorithms: DEFAULT_ALGORITHMS.split(',').map(|a| a.parse().expect("known algorithm")).collect(),
+            robots: (1..=13).collect(),
+            runs,
+            seed: 1,
+            situation: None,
+            out,
+            max_rounds: DEFAULT_MAX_ROUNDS,
+            progress: false,
+            maps: None,
+            verbose: false,
+        }
+    }
+}
+
 /// Everything a sweep produced.
 pub struct Sweep {
     pub cells: Vec<CellStats>,
