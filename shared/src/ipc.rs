@@ -39,6 +39,7 @@ use serde::{Deserialize, Serialize};
 use crate::outcome::{RunConfig, RunResult};
 
 pub mod files;
+pub mod outbox;
 pub mod private;
 
 pub use files::{cleanup_run, run_files, run_prefixes, sweep_stale};
@@ -144,8 +145,9 @@ pub mod names {
         "gridswarm/world/wake".into()
     }
 
-    pub fn robot_out(i: usize) -> String {
-        format!("gridswarm/robot/{i}/out")
+    /// The outbox of robots `g * OUTBOX_GROUP ..` (see [`super::outbox`]).
+    pub fn group_out(g: usize) -> String {
+        format!("gridswarm/robots/{g}/out")
     }
 
     pub fn robot_in(i: usize) -> String {

@@ -1,14 +1,18 @@
 //! The world's iceoryx2 side: it creates every service of the run (so the
 //! limits are the world's, with room for every robot) and holds its ports:
-//! a publisher into every robot's inbox, a subscriber on every outbox, a
-//! notifier per robot and one listener the robots notify.
+//! a publisher into every robot's inbox, a subscriber on every group's
+//! outbox, a notifier per robot and one listener the robots notify.
+//!
+//! A group's outbox carries the chunks of several robots, tagged with
+//! their numbers; the world takes them off in arrival order and keeps each
+//! robot's in its own queue until it asks for that robot's.
 
+use std::cell::{Cell, RefCell};
+use std::collections::VecDeque;
 use std::time::Duration;
 
-use gridswarm::ipc::{
-    self, names, BytesPublisher, BytesService, BytesSubscriber, EventService, Listener, Notifier,
-    Svc,
-};
+use gridswarm::ipc::outbox::{self, OutboxService, OutboxSubscriber};
+use gridswarm::ipc::{self, names, BytesPublisher, BytesService, EventService, Listener, Notifier, Svc};
 use gridswarm::wire;
 use iceoryx2::config::Config;
 use iceoryx2::prelude::*;
@@ -20,7 +24,7 @@ pub fn world_node(config: &Config) -> Result<Node<Svc>, String> {
 /// Every service of a run, created by the world.
 pub struct Services {
     robots: usize,
-    outs: Vec<BytesService>,
+    outs: Vec<OutboxService>,
     ins: Vec<BytesService>,
     wakes: Vec<EventService>,
     world_wake: EventService,
@@ -30,13 +34,16 @@ impl Services {
     pub fn create(node: &Node<Svc>, robots: usize) -> Result<Self, String> {
         let mut s = Services {
             robots,
-            outs: Vec::with_capacity(robots),
+            outs: Vec::with_capacity(outbox::groups(robots)),
             ins: Vec::with_capacity(robots),
             wakes: Vec::with_capacity(robots),
             world_wake: ipc::create_event(node, &names::world_wake(), robots, robots.max(1))?,
         };
+        for g in 0..outbox::groups(robots) {
+            let writers = outbox::members(g, robots);
+            s.outs.push(outbox::create(node, &names::group_out(g), writers, ipc::OUTBOX_CHUNKS)?);
+        }
         for i in 0..robots {
-            s.outs.push(ipc::create_bytes(node, &names::robot_out(i), ipc::OUTBOX_CHUNKS)?);
             s.ins.push(ipc::create_bytes(node, &names::robot_in(i), ipc::INBOX_CHUNKS)?);
             s.wakes.push(ipc::create_event(node, &names::robot_wake(i), 1, 1)?);
         }
@@ -46,7 +53,10 @@ impl Services {
 
 /// The world's ports.
 pub struct Ports {
-    outs: Vec<BytesSubscriber>,
+    outs: Vec<OutboxSubscriber>,
+    /// Chunks taken off a group's outbox, by robot, not asked for yet.
+    pending: RefCell<Vec<VecDeque<Vec<u8>>>>,
+    mistagged: Cell<u64>,
     ins: Vec<BytesPublisher>,
     wakes: Vec<Notifier>,
     listener: Listener,
@@ -57,13 +67,17 @@ impl Ports {
         let listener =
             s.world_wake.listener_builder().create().map_err(|e| format!("cannot create the world's listener: {e:?}"))?;
         let mut p = Ports {
-            outs: Vec::with_capacity(s.robots),
+            outs: Vec::with_capacity(s.outs.len()),
+            pending: RefCell::new(vec![VecDeque::new(); s.robots]),
+            mistagged: Cell::new(0),
             ins: Vec::with_capacity(s.robots),
             wakes: Vec::with_capacity(s.robots),
             listener,
         };
+        for out in &s.outs {
+            p.outs.push(outbox::subscriber(out, ipc::OUTBOX_CHUNKS)?);
+        }
         for i in 0..s.robots {
-            p.outs.push(ipc::bytes_subscriber(&s.outs[i], ipc::OUTBOX_CHUNKS)?);
             p.ins.push(ipc::bytes_publisher(&s.ins[i], ipc::CHUNK_BYTES)?);
             p.wakes.push(
                 s.wakes[i].notifier_builder().create().map_err(|e| format!("cannot create notifier {i}: {e:?}"))?,
@@ -104,9 +118,39 @@ impl Ports {
     }
 
     /// Takes the next chunk of robot `r`'s outbox into `buf`, if any. An
-    /// error is a connection to the robot's publisher that failed.
+    /// error is a connection to a publisher of its group that failed.
     pub fn recv(&self, r: usize, buf: &mut Vec<u8>) -> Result<bool, String> {
-        ipc::receive(&self.outs[r], buf)
+        let mut pending = self.pending.borrow_mut();
+        if pending[r].is_empty() {
+            self.drain_group(outbox::group_of(r), &mut pending, buf)?;
+        }
+        match pending[r].pop_front() {
+            Some(chunk) => {
+                *buf = chunk;
+                Ok(true)
+            }
+            None => Ok(false),
+        }
+    }
+
+    /// Moves every chunk waiting in group `g`'s outbox to its robot's queue.
+    /// A chunk tagged with a robot outside the group is dropped and counted
+    /// ([`Ports::mistagged`]): a robot writes only under its own number.
+    fn drain_group(&self, g: usize, pending: &mut [VecDeque<Vec<u8>>], scratch: &mut Vec<u8>) -> Result<(), String> {
+        while let Some(from) = outbox::receive(&self.outs[g], scratch)? {
+            let from = from as usize;
+            if from < pending.len() && outbox::group_of(from) == g {
+                pending[from].push_back(scratch.clone());
+            } else {
+                self.mistagged.set(self.mistagged.get() + 1);
+            }
+        }
+        Ok(())
+    }
+
+    /// Chunks dropped because their tag named no robot of their group.
+    pub fn mistagged(&self) -> u64 {
+        self.mistagged.get()
     }
 }
 

@@ -135,7 +135,7 @@ fn run(args: Args) -> Result<(), String> {
         agent_peak_rss_kib,
         agent_cpu_ms,
         died: remote.died(),
-        dropped: remote.dropped,
+        dropped: remote.dropped + ports.mistagged(),
         liveness_checks: remote.liveness_checks,
         wake_batches: remote.batches,
         largest_wake_bytes: remote.largest_wake,
