@@ -81,13 +81,13 @@ impl Ports {
     fn open(node: &Node<ipc::Svc>, robot: usize) -> Result<Self, String> {
         let inbox = ipc::open_bytes(node, &names::robot_in(robot), ipc::INBOX_CHUNKS)?;
         let outbox = ipc::outbox::open(node, &names::group_out(ipc::outbox::group_of(robot)), ipc::OUTBOX_CHUNKS)?;
-        let wake = ipc::open_event(node, &names::robot_wake(robot))?;
+        let wake = ipc::open_event(node, &names::robots_wake())?;
         let world_wake = ipc::open_event(node, &names::world_wake())?;
         Ok(Ports {
             inbox: ipc::bytes_subscriber(&inbox, ipc::INBOX_CHUNKS)?,
             outbox: ipc::outbox::publisher(&outbox)?,
             robot: robot as u32,
-            listener: wake.listener_builder().create().map_err(|e| format!("cannot create listener: {e:?}"))?,
+            listener: ipc::wake::listener(&wake, robot)?,
             notifier: world_wake
                 .notifier_builder()
                 .default_event_id(EventId::new(robot))

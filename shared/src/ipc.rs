@@ -41,6 +41,7 @@ use crate::outcome::{RunConfig, RunResult};
 pub mod files;
 pub mod outbox;
 pub mod private;
+pub mod wake;
 
 pub use files::{cleanup_run, run_files, run_prefixes, sweep_stale};
 pub use private::{describe_uid, run_root};
@@ -123,9 +124,11 @@ pub fn root_dir(config: &Config) -> PathBuf {
     PathBuf::from(config.global.root_path().to_string())
 }
 
-/// Sets iceoryx2's log level: errors only, unless `IOX2_LOG_LEVEL` says otherwise.
+/// iceoryx2's log through the run's logger: errors only, unless
+/// `IOX2_LOG_LEVEL` says otherwise, and failed notifications counted
+/// ([`wake::install_logger`]).
 pub fn quiet_logs() {
-    iceoryx2::prelude::set_log_level_from_env_or(LogLevel::Error);
+    wake::install_logger();
 }
 
 /// Service and node names.
@@ -154,8 +157,9 @@ pub mod names {
         format!("gridswarm/robot/{i}/in")
     }
 
-    pub fn robot_wake(i: usize) -> String {
-        format!("gridswarm/robot/{i}/wake")
+    /// Every robot's wake-up, one listener a robot (see [`super::wake`]).
+    pub fn robots_wake() -> String {
+        "gridswarm/robots/wake".into()
     }
 }
 

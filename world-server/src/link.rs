@@ -1,7 +1,8 @@
 //! The world's iceoryx2 side: it creates every service of the run (so the
 //! limits are the world's, with room for every robot) and holds its ports:
 //! a publisher into every robot's inbox, a subscriber on every group's
-//! outbox, a notifier per robot and one listener the robots notify.
+//! outbox, one notifier that wakes one robot at a time, and one listener
+//! the robots notify.
 //!
 //! A group's outbox carries the chunks of several robots, tagged with
 //! their numbers; the world takes them off in arrival order and keeps each
@@ -12,7 +13,8 @@ use std::collections::VecDeque;
 use std::time::Duration;
 
 use gridswarm::ipc::outbox::{self, OutboxService, OutboxSubscriber};
-use gridswarm::ipc::{self, names, BytesPublisher, BytesService, EventService, Listener, Notifier, Svc};
+use gridswarm::ipc::wake::Waker;
+use gridswarm::ipc::{self, names, BytesPublisher, BytesService, EventService, Listener, Svc};
 use gridswarm::wire;
 use iceoryx2::config::Config;
 use iceoryx2::prelude::*;
@@ -26,7 +28,7 @@ pub struct Services {
     robots: usize,
     outs: Vec<OutboxService>,
     ins: Vec<BytesService>,
-    wakes: Vec<EventService>,
+    wake: EventService,
     world_wake: EventService,
 }
 
@@ -36,7 +38,7 @@ impl Services {
             robots,
             outs: Vec::with_capacity(outbox::groups(robots)),
             ins: Vec::with_capacity(robots),
-            wakes: Vec::with_capacity(robots),
+            wake: ipc::wake::create(node, robots)?,
             world_wake: ipc::create_event(node, &names::world_wake(), robots, robots.max(1))?,
         };
         for g in 0..outbox::groups(robots) {
@@ -45,7 +47,6 @@ impl Services {
         }
         for i in 0..robots {
             s.ins.push(ipc::create_bytes(node, &names::robot_in(i), ipc::INBOX_CHUNKS)?);
-            s.wakes.push(ipc::create_event(node, &names::robot_wake(i), 1, 1)?);
         }
         Ok(s)
     }
@@ -58,7 +59,7 @@ pub struct Ports {
     pending: RefCell<Vec<VecDeque<Vec<u8>>>>,
     mistagged: Cell<u64>,
     ins: Vec<BytesPublisher>,
-    wakes: Vec<Notifier>,
+    waker: Waker,
     listener: Listener,
 }
 
@@ -71,7 +72,7 @@ impl Ports {
             pending: RefCell::new(vec![VecDeque::new(); s.robots]),
             mistagged: Cell::new(0),
             ins: Vec::with_capacity(s.robots),
-            wakes: Vec::with_capacity(s.robots),
+            waker: Waker::new(&s.wake, s.robots)?,
             listener,
         };
         for out in &s.outs {
@@ -79,9 +80,6 @@ impl Ports {
         }
         for i in 0..s.robots {
             p.ins.push(ipc::bytes_publisher(&s.ins[i], ipc::CHUNK_BYTES)?);
-            p.wakes.push(
-                s.wakes[i].notifier_builder().create().map_err(|e| format!("cannot create notifier {i}: {e:?}"))?,
-            );
         }
         Ok(p)
     }
@@ -105,11 +103,11 @@ impl Ports {
         res
     }
 
-    /// Wakes robot `r`; false if no listener was reached. iceoryx2 counts
-    /// a connection it could not open (e.g. out of descriptors) or a
-    /// listener whose process is gone as not reached, without an error.
+    /// Wakes robot `r`; false if its listener was not reached: no
+    /// connection to it (e.g. out of descriptors, or its process gone) or
+    /// a send that failed ([`Waker::wake`]).
     pub fn notify(&self, r: usize) -> bool {
-        matches!(self.wakes[r].notify(), Ok(n) if n > 0)
+        self.waker.wake(r).is_ok()
     }
 
     /// Waits up to `timeout` for robots to notify; pushes their ids.
