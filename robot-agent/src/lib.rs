@@ -90,7 +90,8 @@ impl Ports {
             listener: ipc::wake::listener(&wake, robot)?,
             notifier: world_wake
                 .notifier_builder()
-                .default_event_id(EventId::new(robot))
+                // Its group's number: the world reads the group's outbox.
+                .default_event_id(EventId::new(ipc::outbox::group_of(robot)))
                 .create()
                 .map_err(|e| format!("cannot create notifier: {e:?}"))?,
         })

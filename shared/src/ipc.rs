@@ -17,10 +17,16 @@
 //!
 //! | service | kind | writer | reader |
 //! |---|---|---|---|
-//! | `gridswarm/robot/<i>/out` | publish-subscribe `[u8]` | robot `i` (at most 1 publisher) | world |
 //! | `gridswarm/robot/<i>/in` | publish-subscribe `[u8]` | world | robot `i` |
-//! | `gridswarm/robot/<i>/wake` | event | world | robot `i` |
-//! | `gridswarm/world/wake` | event, id = robot | every robot | world |
+//! | `gridswarm/robots/<g>/out` | publish-subscribe `[u8]`, user header = robot | robots `32g..32g+31` | world |
+//! | `gridswarm/robots/wake` | event, one listener a robot, named `robot-<i>` | world (one listener at a time) | every robot |
+//! | `gridswarm/world/wake` | event, id = the robot's outbox group | every robot | world |
+//!
+//! Only the inbox is a service per robot: a service costs the world three
+//! descriptors (static config, dynamic config, port tag) on top of a
+//! connection's own, so the outboxes are shared by groups ([`outbox`]) and
+//! the wake-ups by all ([`wake`]). The world holds 9 descriptors a robot
+//! ([`crate::nofile`]).
 //!
 //! Payloads are chunks ([`crate::wire::chunks`]) of postcard bytes of
 //! [`crate::wire::ToWorld`] (out) and [`crate::wire::ToAgent`] (in). The
@@ -57,8 +63,7 @@ pub const INBOX_CHUNKS: usize = 128;
 /// Chunks a robot's outbox holds (its hello and one answer at a time).
 pub const OUTBOX_CHUNKS: usize = 64;
 
-/// The event id a robot's notifier uses is its robot id; ids up to this are
-/// valid (robots are numbered below [`MAX_ROBOTS`]).
+/// Robots are numbered below this.
 pub const MAX_ROBOTS: usize = 4096;
 
 /// Exit status of a robot-agent whose world-server vanished.
