@@ -232,3 +232,53 @@ impl Drop for Processes {
         self.abort();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    fn sleeper(i: usize) -> Result<Command> {
+        let mut cmd = Command::new("sleep");
+        cmd.arg(format!("30.{i:03}"));
+        launch::guard(&mut cmd, libc::SIGKILL);
+        Ok(cmd)
+    }
+
+    /// Children come back in order, and outlive the spawn: were the
+    /// spawning threads gone, their parent-death signal would kill them.
+    #[test]
+    fn agents_spawned_from_threads_are_in_order_and_stay_alive_until_released() {
+        let mut sp = Spawners::default();
+        let (mut kids, err) = sp.spawn_all(9, sleeper);
+        assert!(err.is_none());
+        assert_eq!(kids.len(), 9);
+        for (i, k) in kids.iter().enumerate() {
+            let cmdline = fs::read_to_string(format!("/proc/{}/cmdline", k.id())).unwrap_or_default();
+            assert!(cmdline.contains(&format!("30.{i:03}")), "child {i}: {cmdline:?}");
+        }
+        std::thread::sleep(Duration::from_millis(300));
+        assert!(kids.iter_mut().all(|k| matches!(k.try_wait(), Ok(None))), "a child died with its spawning thread");
+        assert_eq!(launch::kill_and_reap(&mut kids), 9);
+        sp.release();
+        assert!(sp.threads.is_empty());
+    }
+
+    /// A child that cannot start is an error naming it; the others started.
+    #[test]
+    fn a_failed_spawn_is_named_and_the_rest_are_returned() {
+        let mut sp = Spawners::default();
+        let (mut kids, err) = sp.spawn_all(5, |i| {
+            if i == 3 {
+                Ok(Command::new("/nonexistent/robot-agent"))
+            } else {
+                sleeper(i)
+            }
+        });
+        let err = err.expect("robot-agent 3 cannot start").to_string();
+        assert!(err.contains("cannot start robot-agent 3"), "{err}");
+        assert_eq!(kids.len(), 4);
+        launch::kill_and_reap(&mut kids);
+        sp.release();
+    }
+}
