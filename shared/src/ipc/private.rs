@@ -47,11 +47,14 @@ const NODE_COUNTER_NAME: &str = "9204dd183d1c4d8e1ff592a30766ffa6765aa8b5_node.0
 const NODE_COUNTER_VERSION: u64 = 10 << 16;
 const NODE_COUNTER_BYTES: usize = 16;
 
-/// iceoryx2's root folder for the run with this prefix: its own folder
-/// under the temporary directory, next to the orchestrator's run folder
-/// (`gridswarm-<prefix>`), so the sweep of dead runs finds it by name.
+/// iceoryx2's root folder for the run with this prefix: its own folder in
+/// `/dev/shm`, where the sweep of dead runs finds its files by prefix
+/// ([`super::files::run_prefixes`]). In memory, not under the temporary
+/// directory: iceoryx2 syncs every service's and node's static file to
+/// disk when it makes it (about 1.3 ms each on this machine's disk, against
+/// 0.02 ms in memory), and a run of 1,000 robots makes over 2,000.
 pub fn run_root(prefix: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("gridswarm-{prefix}iceoryx2"))
+    Path::new("/dev/shm").join(format!("gridswarm-{prefix}iceoryx2"))
 }
 
 /// The node counter file of the run with this prefix.
