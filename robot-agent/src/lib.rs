@@ -70,7 +70,9 @@ const UNREACHABLE: &str = "cannot notify the world: its listener cannot be reach
 /// The agent's iceoryx2 ports.
 struct Ports {
     inbox: ipc::BytesSubscriber,
-    outbox: ipc::BytesPublisher,
+    /// Its group's outbox, shared with other robots; chunks carry `robot`.
+    outbox: ipc::outbox::OutboxPublisher,
+    robot: u32,
     listener: ipc::Listener,
     notifier: ipc::Notifier,
 }
@@ -78,16 +80,18 @@ struct Ports {
 impl Ports {
     fn open(node: &Node<ipc::Svc>, robot: usize) -> Result<Self, String> {
         let inbox = ipc::open_bytes(node, &names::robot_in(robot), ipc::INBOX_CHUNKS)?;
-        let outbox = ipc::open_bytes(node, &names::robot_out(robot), ipc::OUTBOX_CHUNKS)?;
-        let wake = ipc::open_event(node, &names::robot_wake(robot))?;
+        let outbox = ipc::outbox::open(node, &names::group_out(ipc::outbox::group_of(robot)), ipc::OUTBOX_CHUNKS)?;
+        let wake = ipc::open_event(node, &names::robots_wake())?;
         let world_wake = ipc::open_event(node, &names::world_wake())?;
         Ok(Ports {
             inbox: ipc::bytes_subscriber(&inbox, ipc::INBOX_CHUNKS)?,
-            outbox: ipc::bytes_publisher(&outbox, ipc::CHUNK_BYTES)?,
-            listener: wake.listener_builder().create().map_err(|e| format!("cannot create listener: {e:?}"))?,
+            outbox: ipc::outbox::publisher(&outbox)?,
+            robot: robot as u32,
+            listener: ipc::wake::listener(&wake, robot)?,
             notifier: world_wake
                 .notifier_builder()
-                .default_event_id(EventId::new(robot))
+                // Its group's number: the world reads the group's outbox.
+                .default_event_id(EventId::new(ipc::outbox::group_of(robot)))
                 .create()
                 .map_err(|e| format!("cannot create notifier: {e:?}"))?,
         })
@@ -102,7 +106,7 @@ impl Ports {
         let mut res = Ok(());
         wire::chunks(seq, bytes, ipc::CHUNK_BYTES, |c| {
             if res.is_ok() {
-                res = ipc::publish(&self.outbox, c);
+                res = ipc::outbox::publish(&self.outbox, self.robot, c);
             }
         });
         res?;

@@ -17,10 +17,16 @@
 //!
 //! | service | kind | writer | reader |
 //! |---|---|---|---|
-//! | `gridswarm/robot/<i>/out` | publish-subscribe `[u8]` | robot `i` (at most 1 publisher) | world |
 //! | `gridswarm/robot/<i>/in` | publish-subscribe `[u8]` | world | robot `i` |
-//! | `gridswarm/robot/<i>/wake` | event | world | robot `i` |
-//! | `gridswarm/world/wake` | event, id = robot | every robot | world |
+//! | `gridswarm/robots/<g>/out` | publish-subscribe `[u8]`, user header = robot | robots `32g..32g+31` | world |
+//! | `gridswarm/robots/wake` | event, one listener a robot, named `robot-<i>` | world (one listener at a time) | every robot |
+//! | `gridswarm/world/wake` | event, id = the robot's outbox group | every robot | world |
+//!
+//! Only the inbox is a service per robot: a service costs the world three
+//! descriptors (static config, dynamic config, port tag) on top of a
+//! connection's own, so the outboxes are shared by groups ([`outbox`]) and
+//! the wake-ups by all ([`wake`]). The world holds 9 descriptors a robot
+//! ([`crate::nofile`]).
 //!
 //! Payloads are chunks ([`crate::wire::chunks`]) of postcard bytes of
 //! [`crate::wire::ToWorld`] (out) and [`crate::wire::ToAgent`] (in). The
@@ -39,7 +45,9 @@ use serde::{Deserialize, Serialize};
 use crate::outcome::{RunConfig, RunResult};
 
 pub mod files;
+pub mod outbox;
 pub mod private;
+pub mod wake;
 
 pub use files::{cleanup_run, run_files, run_prefixes, sweep_stale};
 pub use private::{describe_uid, run_root};
@@ -55,8 +63,7 @@ pub const INBOX_CHUNKS: usize = 128;
 /// Chunks a robot's outbox holds (its hello and one answer at a time).
 pub const OUTBOX_CHUNKS: usize = 64;
 
-/// The event id a robot's notifier uses is its robot id; ids up to this are
-/// valid (robots are numbered below [`MAX_ROBOTS`]).
+/// Robots are numbered below this.
 pub const MAX_ROBOTS: usize = 4096;
 
 /// Exit status of a robot-agent whose world-server vanished.
@@ -122,9 +129,11 @@ pub fn root_dir(config: &Config) -> PathBuf {
     PathBuf::from(config.global.root_path().to_string())
 }
 
-/// Sets iceoryx2's log level: errors only, unless `IOX2_LOG_LEVEL` says otherwise.
+/// iceoryx2's log through the run's logger: errors only, unless
+/// `IOX2_LOG_LEVEL` says otherwise, and failed notifications counted
+/// ([`wake::install_logger`]).
 pub fn quiet_logs() {
-    iceoryx2::prelude::set_log_level_from_env_or(LogLevel::Error);
+    wake::install_logger();
 }
 
 /// Service and node names.
@@ -144,16 +153,18 @@ pub mod names {
         "gridswarm/world/wake".into()
     }
 
-    pub fn robot_out(i: usize) -> String {
-        format!("gridswarm/robot/{i}/out")
+    /// The outbox of robots `g * OUTBOX_GROUP ..` (see [`super::outbox`]).
+    pub fn group_out(g: usize) -> String {
+        format!("gridswarm/robots/{g}/out")
     }
 
     pub fn robot_in(i: usize) -> String {
         format!("gridswarm/robot/{i}/in")
     }
 
-    pub fn robot_wake(i: usize) -> String {
-        format!("gridswarm/robot/{i}/wake")
+    /// Every robot's wake-up, one listener a robot (see [`super::wake`]).
+    pub fn robots_wake() -> String {
+        "gridswarm/robots/wake".into()
     }
 }
 

@@ -7,21 +7,29 @@
 
 use std::io;
 
-/// Descriptors the world-server holds per robot, measured (`/proc/PID/fd`
-/// of a world at 1, 13, 30 and 50 robots: 14 + 15 N): for each of a
-/// robot's three services its static config file, its dynamic config and
-/// the world's port tag; the two data segments and two connections of its
-/// inbox and outbox; the shared memory and socket of the world's notifier.
-pub const WORLD_FDS_PER_ROBOT: u64 = 15;
-/// Descriptors any process of a run holds besides: the world's own 14,
-/// an agent's 29 (whatever N), the orchestrator's 9, and room for the
-/// files they open for a moment (`/proc`, node lists, the report).
+/// Descriptors the world-server holds per robot, counted by link target in
+/// `/proc/PID/fd` of a world at 20, 64 and 200 robots: for the robot's own
+/// inbox service its static config file, its dynamic config and the
+/// world's port tag, the world's data segment and its connection; the
+/// robot's data segment and connection in its group's outbox; the shared
+/// memory and socket of the connection to its listener. (Before outboxes
+/// and wake-ups were shared, 15: each cost three more.)
+pub const WORLD_FDS_PER_ROBOT: u64 = 9;
+/// Descriptors the world-server holds per outbox group
+/// ([`crate::ipc::outbox`]): the service's static config, dynamic config
+/// and the world's port tag.
+pub const WORLD_FDS_PER_GROUP: u64 = 3;
+/// Descriptors any process of a run holds besides: the world's own 20
+/// (its node, the two shared event services), an agent's 29 (whatever N),
+/// the orchestrator's 9, and room for the files they open for a moment
+/// (`/proc`, node lists, the report).
 pub const FDS_BASE: u64 = 40;
 
 /// The open-file limit (`RLIMIT_NOFILE`) every process of a run of
 /// `robots` robots needs: the world-server's, the largest.
 pub fn needed(robots: usize) -> u64 {
-    FDS_BASE + WORLD_FDS_PER_ROBOT * robots as u64
+    let groups = crate::ipc::outbox::groups(robots) as u64;
+    FDS_BASE + WORLD_FDS_PER_ROBOT * robots as u64 + WORLD_FDS_PER_GROUP * groups
 }
 
 /// This process's open-file limits, soft and hard.
@@ -54,9 +62,10 @@ pub fn ensure(needed: u64, what: &str) -> Result<u64, String> {
         }
     }
     Err(format!(
-        "{what} needs {needed} open files ({FDS_BASE} + {WORLD_FDS_PER_ROBOT} a robot in the world-server), \
+        "{what} needs {needed} open files ({FDS_BASE} + {WORLD_FDS_PER_ROBOT} a robot + {WORLD_FDS_PER_GROUP} per {} robots in the world-server), \
          but the open-file limit is {soft} (hard limit {hard}); raise it with `ulimit -n {needed}` \
-         (above the hard limit only root can, e.g. in /etc/security/limits.conf), or run fewer robots"
+         (above the hard limit only root can, e.g. in /etc/security/limits.conf), or run fewer robots",
+        crate::ipc::outbox::OUTBOX_GROUP
     ))
 }
 
@@ -67,7 +76,9 @@ mod tests {
     #[test]
     fn open_file_needs_are_checked_against_the_limits() {
         assert_eq!(needed(0), FDS_BASE);
-        assert_eq!(needed(100) - needed(99), WORLD_FDS_PER_ROBOT);
+        assert_eq!(needed(100) - needed(99), WORLD_FDS_PER_ROBOT, "the same group");
+        assert_eq!(needed(97) - needed(96), WORLD_FDS_PER_ROBOT + WORLD_FDS_PER_GROUP, "a new group");
+        assert_eq!(needed(1000), 40 + 9 * 1000 + 3 * 32);
         let (soft, hard) = limits().unwrap();
         assert!(soft <= hard);
         assert_eq!(ensure(1, "x"), Ok(soft), "enough: nothing changes");

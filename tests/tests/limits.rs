@@ -1,17 +1,19 @@
-//! Open-file limits: a distributed run needs about 15 descriptors a robot
-//! in the world-server. Under a limit too low for it, a run used to go
-//! wrong in the middle (with 256: healthy robots declared dead at 17
-//! robots, 1.5 s rounds at 18, a 32 s wait for hellos at 19-24); now it is
-//! refused before anything starts, with the number needed, the limits and
-//! the fix, and every run the limit admits runs correctly. A wake-up that
-//! still fails ends the run with a message.
+//! Open-file limits: a distributed run needs about 9 descriptors a robot
+//! in the world-server (15 before outboxes and wake-ups were shared).
+//! Under a limit too low for it, a run used to go wrong in the middle
+//! (with 256 and 15 a robot: healthy robots declared dead at 17 robots,
+//! 1.5 s rounds at 18, a 32 s wait for hellos at 19-24); now it is refused
+//! before anything starts, with the number needed, the limits and the fix,
+//! every run the limit admits runs correctly, and the number needed is
+//! not below what a run opens. A wake-up that still fails ends the run
+//! with a message.
 
 use std::os::unix::process::CommandExt;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use gridswarm::nofile::{needed, FDS_BASE, WORLD_FDS_PER_ROBOT};
+use gridswarm::nofile::needed;
 use gridswarm_e2e::*;
 
 /// `gridswarm ARGS` with open-file limits `soft:hard`, as `prlimit
@@ -55,9 +57,9 @@ fn assert_refused(out: &Output, took: Duration, what: &str, needed: u64, limit: 
 #[test]
 fn runs_a_limit_of_256_cannot_hold_are_refused_at_once() {
     let _s = serial();
-    // The reproducers: 17 (robots declared dead), 18 (slow rounds), 19-24
-    // (no hello); and 15, the first count past the limit.
-    for n in [15usize, 17, 18, 19, 24] {
+    // The first count past the limit, and one further.
+    let first = largest_admitted(256) + 1;
+    for n in [first, first + 7] {
         let robots = n.to_string();
         let (out, took, prefixes) = timed(limited(256, 256, &["run", "--robots", &robots, "--seed", "3"]));
         assert_refused(&out, took, &format!("a distributed run of {n} robots"), needed(n), 256);
@@ -68,8 +70,9 @@ fn runs_a_limit_of_256_cannot_hold_are_refused_at_once() {
 #[test]
 fn the_largest_run_a_limit_of_256_admits_runs_correctly() {
     let _s = serial();
-    let n = ((256 - FDS_BASE) / WORLD_FDS_PER_ROBOT) as usize;
-    assert!(needed(n) <= 256 && needed(n + 1) > 256);
+    let n = largest_admitted(256);
+    // 17-23 were the reproducers when a robot cost 15 descriptors.
+    assert!(n >= 23, "{n}");
     let robots = n.to_string();
     let args = ["run", "--json", "--robots", &robots, "--seed", "3"];
     let (out, _, _) = timed(limited(256, 256, &args));
@@ -78,13 +81,38 @@ fn the_largest_run_a_limit_of_256_admits_runs_correctly() {
     assert_eq!(v["complete"], true, "{v}");
     assert_eq!(v["died"], serde_json::json!([]), "healthy robots taken for dead");
     assert_eq!(v["failures_detected"], serde_json::json!([]), "healthy robots declared");
-    assert!(v["world_fds"].as_u64().unwrap() <= 256);
+    assert!(v["world_fds"].as_u64().unwrap() <= needed(n), "{} open, {} needed", v["world_fds"], needed(n));
     assert!(v["round_wall_ms"]["max"].as_f64().unwrap() < 1000.0, "a slow path: {}", v["round_wall_ms"]);
     // The same search as in-process.
     let sim = finished(&search(&["simulate", "--json", "--robots", &robots, "--seed", "3"]), &[]);
     for k in ["rounds", "search_time_s", "collisions", "targets_found"] {
         assert_eq!(v[k], sim[k], "{k}");
     }
+}
+
+/// The most robots a limit of `limit` descriptors admits.
+fn largest_admitted(limit: u64) -> usize {
+    let n = (0..).find(|&n| needed(n + 1) > limit).unwrap();
+    assert!(needed(n) <= limit);
+    n
+}
+
+/// What the world of a run of many robots really opens, measured in the
+/// middle of the run (the report counts before `End`): never more than
+/// the number the run asks for, and not much less either (the number
+/// would refuse runs that fit).
+#[test]
+fn the_number_needed_covers_what_a_run_opens() {
+    let _s = serial();
+    let n = 200;
+    let args = ["run", "--json", "--scenario", "large", "--robots", "200", "--seed", "3", "--max-rounds", "3"];
+    let (out, _, _) = timed(limited(needed(n), needed(n), &args));
+    let v = finished(&out, &args);
+    assert_no_leftovers(v["ipc_prefix"].as_str().unwrap());
+    assert_eq!(v["died"], serde_json::json!([]), "{v}");
+    let open = v["world_fds"].as_u64().unwrap();
+    assert!(open <= needed(n), "{open} open, {} needed", needed(n));
+    assert!(open + 60 >= needed(n), "{open} open, {} needed: the number is far too high", needed(n));
 }
 
 #[test]

@@ -145,6 +145,8 @@ fn hostile_writer(pid: &str) {
     while !stop.load(std::sync::atomic::Ordering::Relaxed) {
         let mut files = Vec::new();
         files_of(Path::new("/dev/shm"), &shm_head, &mut files);
+        // The run's iceoryx2 root folder.
+        files_of(Path::new("/dev/shm"), &tmp_head, &mut files);
         files_of(&std::env::temp_dir(), &tmp_head, &mut files);
         for f in files {
             saw_counter |= f.to_string_lossy().ends_with(".global_mgmt");

@@ -121,6 +121,7 @@ fn run(args: Args) -> Result<(), String> {
     // Measured before `End`, while every agent still runs.
     let agent_peak_rss_kib = remote.pids().iter().map(|&p| ipc::peak_rss_kib_of(p)).collect();
     let agent_cpu_ms = remote.pids().iter().map(|&p| ipc::cpu_ms_of(p)).collect();
+    let world_fds = ipc::open_fds();
     remote.end();
     let report = RunReport {
         vertices: vertices(&world, &result),
@@ -129,13 +130,13 @@ fn run(args: Args) -> Result<(), String> {
         round_wall_ms: std::mem::take(&mut remote.round_wall_ms),
         startup_ms,
         paused_ms: remote.paused_total.as_secs_f64() * 1e3,
-        world_fds: ipc::open_fds(),
+        world_fds,
         world_peak_rss_kib: ipc::peak_rss_kib(),
         world_cpu_ms,
         agent_peak_rss_kib,
         agent_cpu_ms,
         died: remote.died(),
-        dropped: remote.dropped,
+        dropped: remote.dropped + ports.mistagged(),
         liveness_checks: remote.liveness_checks,
         wake_batches: remote.batches,
         largest_wake_bytes: remote.largest_wake,

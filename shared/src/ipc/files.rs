@@ -38,6 +38,8 @@ pub fn run_files(prefix: &str, root: &Path) -> Vec<PathBuf> {
         files_starting_with(&r, prefix, &mut out);
     }
     out.sort();
+    // The run's root is itself under `/dev/shm`.
+    out.dedup();
     out
 }
 
@@ -100,9 +102,24 @@ pub fn run_prefixes(root: &Path) -> Vec<String> {
             prefix_owner(p).map(|_| p.to_string())
         })
         .collect();
+    // A root folder whose files are already gone.
+    prefixes.extend(root_folder_prefixes());
     prefixes.sort();
     prefixes.dedup();
     prefixes
+}
+
+/// The prefixes of the run root folders ([`run_root`]) in `/dev/shm`.
+fn root_folder_prefixes() -> Vec<String> {
+    let Ok(entries) = fs::read_dir("/dev/shm") else { return Vec::new() };
+    entries
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let p = name.strip_prefix("gridswarm-")?.strip_suffix("iceoryx2")?;
+            (prefix_owner(p).is_some() && run_root(p) == e.path()).then(|| p.to_string())
+        })
+        .collect()
 }
 
 /// Removes the files of every run whose owning process (the pid in its
@@ -143,5 +160,22 @@ mod tests {
         assert!(!sweep_stale(&dir).contains(&other));
         assert!(cleanup_run("iox2_", &dir).is_err());
         fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A dead run's root folder in `/dev/shm` goes with the sweep, even
+    /// with none of its files left; a live run's stays.
+    #[test]
+    fn the_sweep_removes_a_dead_runs_empty_root_folder() {
+        let dead = format!("{PREFIX_HEAD}{}x{:06x}_", u32::MAX - 7, 0x5ee);
+        let live = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0x5ef);
+        for p in [&dead, &live] {
+            fs::create_dir_all(run_root(p).join("nodes")).unwrap();
+        }
+        let scratch = std::env::temp_dir().join(format!("gs-ipc-sweep-{}", std::process::id()));
+        let swept = sweep_stale(&scratch);
+        assert!(swept.contains(&dead), "{swept:?}");
+        assert!(!run_root(&dead).exists());
+        assert!(run_root(&live).exists(), "its owner is alive");
+        fs::remove_dir_all(run_root(&live)).unwrap();
     }
 }
