@@ -49,7 +49,7 @@ impl Processes {
 
     /// Starts the world-server; its stdout lines go to `tx`, its stderr
     /// to the run's world log ([`Processes::world_said`]).
-    pub fn start_world(&mut self, bin: &Path, files: &RunFiles, tx: Sender<Event>) -> Result<()> {
+    pub fn start_world(&mut self, bin: &Path, files: &RunFiles, tx: Sender<Event>, extra: &[String]) -> Result<()> {
         let log_path = files.world_log();
         let log = fs::File::create(&log_path).map_err(Error::write(&log_path))?;
         self.world_log = Some(log_path);
@@ -61,6 +61,7 @@ impl Processes {
             .arg("--report")
             .arg(files.report())
             .arg("--progress")
+            .args(extra)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(log);
@@ -78,7 +79,7 @@ impl Processes {
     }
 
     /// Starts robot-agent `0..robots`, their stderr into the run's log.
-    pub fn start_agents(&mut self, bin: &Path, files: &RunFiles, robots: usize) -> Result<()> {
+    pub fn start_agents(&mut self, bin: &Path, files: &RunFiles, robots: usize, extra: &[String]) -> Result<()> {
         let log_path = files.agent_log();
         let log = fs::File::create(&log_path).map_err(Error::write(&log_path))?;
         self.agent_log = Some(log_path.clone());
@@ -91,6 +92,7 @@ impl Processes {
                 .arg(files.setup(i))
                 .arg("--world-pid")
                 .arg(world_pid.to_string())
+                .args(extra)
                 .stdin(Stdio::null())
                 .stdout(Stdio::null())
                 .stderr(log.try_clone().map_err(Error::write(&log_path))?);
