@@ -154,6 +154,8 @@ enum Command {
         /// `--algorithm` then accepts.
         #[arg(long)]
         agent_bin: Option<PathBuf>,
+        #[command(flatten)]
+        net: gridswarm_orchestrator::cli::transport::TransportFlags,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     ///
@@ -283,6 +285,9 @@ enum ExperimentKind {
         /// Output directory (created if missing).
         #[arg(long, default_value = scale::DEFAULT_OUT)]
         out: PathBuf,
+        /// What carries the messages: iceoryx2 or zenoh (TCP on 127.0.0.1).
+        #[arg(long, default_value = "iceoryx2")]
+        transport: gridswarm::transport::Transport,
     },
 }
 
@@ -363,7 +368,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
             };
             radio::run(&opts)?.1
         }
-        ExperimentKind::Scale { robots, runs, seed, scenario, algorithm, distributed: d, out } => {
+        ExperimentKind::Scale { robots, runs, seed, scenario, algorithm, distributed: d, out, transport } => {
             let opts = ScaleOptions {
                 robots: robots.0,
                 runs,
@@ -374,6 +379,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 max_rounds: d.max_rounds,
                 out,
                 progress,
+                transport,
             };
             scale::run(&opts)?.1
         }
@@ -437,7 +443,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Replay { dir } => {
             emit(&format!("{}\n", gridswarm_orchestrator::replay::write(&dir)?.display()));
         }
-        Command::Run { scenario, algorithm, robots, seed, distributed: d, out, json, faults, agent_bin: _ } => {
+        Command::Run { scenario, algorithm, robots, seed, distributed: d, out, json, faults, agent_bin: _, net } => {
             let base = RunBase {
                 scenario,
                 algorithm,
@@ -450,7 +456,8 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             };
             let plan = faults.plan();
             plan.check_scenario(&base)?;
-            let (text, complete) = gridswarm_orchestrator::run::run(&plan.run_options(base))?;
+            let opts = gridswarm_orchestrator::run::RunOptions { net: net.options(), ..plan.run_options(base) };
+            let (text, complete) = gridswarm_orchestrator::run::run(&opts)?;
             emit(&text);
             return Ok(finished(complete));
         }

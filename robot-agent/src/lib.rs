@@ -3,14 +3,22 @@
 //! seed; never obstacles or targets), runs the robot's radio protocol
 //! ([`Peer`]) and nothing else: no algorithm is written here.
 //!
-//! It opens the services the world-server created, says hello, then loops:
-//! sleep on its wake event; read the world's [`Wake`] (all its chunks);
+//! It reaches the world over iceoryx2 (the services the world-server
+//! created; the default) or zenoh (`--transport zenoh`: a client of the
+//! world's router, at `--connect` or found by scouting), says hello, then
+//! loops: sleep until the world posts; read the world's [`Wake`] (all its chunks);
 //! decode every frame it carries ([`protocol::decode`]; a bad one becomes a
 //! `Malformed` note and is skipped); call [`Peer::wake`]; encode the frames
 //! to send; publish its answer and notify the world. On `End` it exits 0;
-//! if the world's process is gone (checked whenever the world is quiet for
-//! `--world-timeout-ms`, or when a notification of it reaches no one) it
-//! exits 3. Errors: one line `robot-agent K: error: ...`, exit status 1;
+//! if the world is gone (its process, or over zenoh its liveliness token;
+//! checked whenever the world is quiet for `--world-timeout-ms`, or when a
+//! notification of it reaches no one) it exits 3.
+//!
+//! Its setup comes from a file the orchestrator wrote (`--setup`), or,
+//! for an agent started by hand on another host, is derived on the spot
+//! from what the orchestrator derives it from: `--scenario`, `--seed`,
+//! `--robot` and the run's overrides ([`derived_setup`]); like flashing
+//! firmware, and the scenario's world is dropped once the setup is made. Errors: one line `robot-agent K: error: ...`, exit status 1;
 //! the orchestrator ends the run on them (a wake-up of a live world that
 //! reaches no one is one: the run would otherwise crawl on time-outs).
 //!
@@ -34,7 +42,12 @@ use gridswarm::choice::registry::{self, Factory};
 use gridswarm::peer::Peer;
 use gridswarm::policy::Policy;
 use gridswarm::protocol::{self, Frame, Limits};
+use gridswarm::net::{NetConfig, ZenohAgent};
+use gridswarm::outcome::RunConfig;
+use gridswarm::params::Situation;
+use gridswarm::scenario::Scenario;
 use gridswarm::setup::RobotSetup;
+use gridswarm::transport::{AgentTransport, Transport};
 use gridswarm::sim::{Note, Output};
 use gridswarm::wire::{self, AgentOutput, Assembler, Bytes, ToAgent, ToWorld, Wake, WireLimits, WireSend};
 use iceoryx2::prelude::*;
@@ -45,15 +58,48 @@ struct Args {
     /// Print the grid algorithms this agent runs, one a line, and exit.
     #[arg(long, exclusive = true)]
     list_rules: bool,
-    /// The run's iceoryx2 prefix, made by the orchestrator.
+    /// The run's iceoryx2 prefix, made by the orchestrator; over zenoh, the
+    /// run's key (the world's `--key`).
     #[arg(long, required_unless_present = "list_rules")]
     prefix: Option<String>,
     /// This robot's setup (JSON, `RobotSetup`).
-    #[arg(long, required_unless_present = "list_rules")]
+    #[arg(long, required_unless_present_any = ["list_rules", "scenario"], conflicts_with = "scenario")]
     setup: Option<PathBuf>,
-    /// The world-server's process id, checked when the world goes quiet.
-    #[arg(long, required_unless_present = "list_rules")]
+    /// The world-server's process id, checked when the world goes quiet
+    /// (iceoryx2; over zenoh the world's liveliness token tells).
+    #[arg(long, required_if_eq("transport", "iceoryx2"))]
     world_pid: Option<u32>,
+    /// How the world is reached: iceoryx2 (this machine) or zenoh (any network).
+    #[arg(long, default_value = "iceoryx2")]
+    transport: Transport,
+    /// zenoh: the world's endpoint (e.g. tcp/10.0.0.1:7447); repeatable.
+    /// Without one, the world is found by multicast scouting.
+    #[arg(long, value_name = "ENDPOINT")]
+    connect: Vec<String>,
+    /// zenoh: a link silent this long is lost (the world's host gone), ms.
+    #[arg(long, default_value_t = gridswarm::net::DEFAULT_LEASE_MS, value_parser = clap::value_parser!(u64).range(100..))]
+    lease_ms: u64,
+    /// zenoh: how long to wait for the world to appear, ms.
+    #[arg(long, default_value_t = 60_000)]
+    connect_timeout_ms: u64,
+    /// Without --setup: the scenario (built-in name or file) to derive the setup from.
+    #[arg(long, requires_all = ["robot", "seed"])]
+    scenario: Option<String>,
+    /// Without --setup: this robot's number.
+    #[arg(long)]
+    robot: Option<usize>,
+    /// Without --setup: the run's seed.
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Without --setup: the grid algorithm.
+    #[arg(long, default_value = "repulsive")]
+    algorithm: String,
+    /// Without --setup: 1 (the number of targets is known) or 2 [default: the scenario's].
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
+    situation: Option<u8>,
+    /// Without --setup: overrides the scenario's retries.
+    #[arg(long)]
+    retries: Option<u32>,
     /// Quiet time after which the world's liveness is checked, ms.
     #[arg(long, default_value_t = 500)]
     world_timeout_ms: u64,
@@ -200,14 +246,35 @@ fn rule_names() -> Vec<&'static str> {
 
 fn run(args: &Args, setup: &RobotSetup) -> Result<Exit, String> {
     ipc::quiet_logs();
-    let (Some(prefix), Some(world_pid)) = (&args.prefix, args.world_pid) else {
-        return Err("--prefix and --world-pid are needed".into());
+    let Some(prefix) = &args.prefix else {
+        return Err("--prefix is needed".into());
     };
-    let config = ipc::config(prefix)?;
+    let robot = setup.id as usize;
+    match args.transport {
+        Transport::Iceoryx2 => {
+            let Some(world_pid) = args.world_pid else {
+                return Err("--world-pid is needed".into());
+            };
+            let config = ipc::config(prefix)?;
+            let node = ipc::create_node(&config, &names::robot_node(robot))?;
+            let ports = Ports::open(&node, robot)?;
+            serve(args, setup, &Iceoryx2 { ports, world_pid })
+        }
+        Transport::Zenoh => {
+            let mut net = NetConfig::new(prefix);
+            net.connect.clone_from(&args.connect);
+            net.lease_ms = args.lease_ms;
+            net.connect_timeout = Duration::from_millis(args.connect_timeout_ms);
+            serve(args, setup, &ZenohAgent::open(&net, robot)?)
+        }
+    }
+}
+
+/// The robot's life once it reaches the world: hello, then one answer per
+/// message until `End` or the world is gone.
+fn serve(args: &Args, setup: &RobotSetup, link: &dyn AgentTransport) -> Result<Exit, String> {
     let grid: Grid = setup.grid();
     let robot = setup.id as usize;
-    let node = ipc::create_node(&config, &names::robot_node(robot))?;
-    let ports = Ports::open(&node, robot)?;
     let mut agent = Agent {
         peer: Peer::new(&grid, setup.peer_config()),
         hang_at: hang_at(robot),
@@ -215,24 +282,90 @@ fn run(args: &Args, setup: &RobotSetup) -> Result<Exit, String> {
         frame_limits: Limits::for_robot(grid.len(), setup.targets_total),
         out: Output::default(),
     };
-    ports.send(0, &wire::encode_to_world(&ToWorld::Hello { robot: setup.id as u32, pid: std::process::id() }))?;
+    link.send(0, &wire::encode_to_world(&ToWorld::Hello { robot: setup.id as u32, pid: std::process::id() }))?;
     let mut asm = Assembler::new(ipc::INBOX_CHUNKS * ipc::CHUNK_BYTES);
     let mut buf = Vec::with_capacity(ipc::CHUNK_BYTES);
     let timeout = Duration::from_millis(args.world_timeout_ms.max(1));
     loop {
-        let _ = ports.listener.timed_wait(|_| {}, timeout);
+        link.wait(timeout);
         let mut got = false;
-        while ipc::receive(&ports.inbox, &mut buf)? {
+        while link.recv(&mut buf)? {
             got = true;
             let Ok(Some((seq, bytes))) = asm.push(&buf) else { continue };
             match agent.answer(seq, bytes) {
-                Some(o) => ports.send(seq, &wire::encode_to_world(&ToWorld::Output(o)))?,
+                Some(o) => link.send(seq, &wire::encode_to_world(&ToWorld::Output(o)))?,
                 None => return Ok(Exit::Done),
             }
         }
-        if !got && !ipc::pid_alive(world_pid) {
+        if !got && !link.world_alive() {
             return Ok(Exit::WorldGone);
         }
+    }
+}
+
+/// The iceoryx2 ports behind [`AgentTransport`]; the world's liveness is
+/// its process on this host.
+struct Iceoryx2 {
+    ports: Ports,
+    world_pid: u32,
+}
+
+impl AgentTransport for Iceoryx2 {
+    fn send(&self, seq: u64, bytes: &[u8]) -> Result<(), String> {
+        self.ports.send(seq, bytes)
+    }
+
+    fn wait(&self, timeout: Duration) {
+        let _ = self.ports.listener.timed_wait(|_| {}, timeout);
+    }
+
+    fn recv(&self, buf: &mut Vec<u8>) -> Result<bool, String> {
+        ipc::receive(&self.ports.inbox, buf)
+    }
+
+    fn world_alive(&self) -> bool {
+        ipc::pid_alive(self.world_pid)
+    }
+}
+
+/// The setup the orchestrator writes for robot `robot` of a run of
+/// `scenario` (its `RobotSetup::new` of the scenario's world, after the
+/// run's situation and retries): what an agent started by hand holds.
+pub fn derived_setup(
+    scenario: &str,
+    robot: usize,
+    seed: u64,
+    algorithm: &str,
+    situation: Option<u8>,
+    retries: Option<u32>,
+) -> Result<RobotSetup, String> {
+    let policy: Policy = algorithm.parse()?;
+    registry::runnable(policy)?;
+    if robot >= ipc::MAX_ROBOTS {
+        return Err(format!("--robot {robot}: robots are numbered below {}", ipc::MAX_ROBOTS));
+    }
+    let mut sc = Scenario::load(scenario).map_err(|e| e.to_string())?;
+    match situation {
+        Some(1) => sc.situation = Situation::One,
+        Some(2) => sc.situation = Situation::Two,
+        Some(n) => return Err(format!("--situation {n}: it is 1 or 2")),
+        None => {}
+    }
+    if let Some(r) = retries {
+        sc.params.retries = r;
+    }
+    let world = sc.world();
+    Ok(RobotSetup::new(&world, &RunConfig::new(policy, seed, sc.situation), robot))
+}
+
+/// The setup from `--setup`, or derived from the scenario.
+fn setup_of(args: &Args) -> Result<RobotSetup, String> {
+    match (&args.setup, &args.scenario, args.robot, args.seed) {
+        (Some(path), _, _, _) => read_setup(path),
+        (None, Some(sc), Some(robot), Some(seed)) => {
+            derived_setup(sc, robot, seed, &args.algorithm, args.situation, args.retries)
+        }
+        _ => Err("--setup, or --scenario with --robot and --seed, is needed".into()),
     }
 }
 
@@ -262,11 +395,7 @@ pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
         }
         return ExitCode::SUCCESS;
     }
-    let Some(path) = &args.setup else {
-        eprintln!("robot-agent: error: --setup is needed");
-        return ExitCode::from(2);
-    };
-    let setup = match read_setup(path) {
+    let setup = match setup_of(&args) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("robot-agent: error: {e}");

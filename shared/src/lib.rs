@@ -30,6 +30,7 @@ pub mod setup;
 pub mod referee;
 pub mod protocol;
 pub mod wire;
+pub mod transport;
 pub mod assumptions;
 pub mod vopr;
 /// The distributed engine's shared pieces (iceoryx2 config, names, cleanup).
@@ -37,3 +38,5 @@ pub mod vopr;
 pub mod ipc;
 #[cfg(feature = "ipc")]
 pub mod nofile;
+#[cfg(feature = "zenoh")]
+pub mod net;

@@ -2,7 +2,9 @@
 //! else: sensors, the radio medium (it carries frames as opaque bytes),
 //! the clock, motors and the collision referee. It runs the same
 //! discrete-event kernel as the in-process engine ([`gridswarm::sim`]),
-//! with every robot in a `robot-agent` process ([`remote::Remote`]). It
+//! with every robot in a `robot-agent` process ([`remote::Remote`]),
+//! reached over iceoryx2 (one machine, the default) or zenoh (`--transport
+//! zenoh`: it listens on `--listen` endpoints, or is found by scouting). It
 //! never reads a frame, never tells a robot that another failed, never
 //! waits for the protocol: everything a robot knows it sensed or heard.
 //!
@@ -19,6 +21,7 @@
 mod link;
 mod remote;
 mod signals;
+mod transport;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -28,7 +31,9 @@ use clap::Parser;
 use gridswarm::ipc::{self, RunFile, RunReport};
 use gridswarm::outcome::RunResult;
 use gridswarm::scenario::Scenario;
+use gridswarm::net::{NetConfig, ZenohWorld};
 use gridswarm::sim::Kernel;
+use gridswarm::transport::{Transport, WorldTransport};
 use gridswarm::wire::WireLimits;
 use gridswarm::world::World;
 
@@ -58,6 +63,26 @@ struct Args {
     /// How long to wait for every robot's hello, ms [default: 30 s + 100 ms a robot].
     #[arg(long)]
     hello_timeout_ms: Option<u64>,
+    /// How robots are reached: iceoryx2 (this machine) or zenoh (any network).
+    #[arg(long, default_value = "iceoryx2")]
+    transport: Transport,
+    /// zenoh: an endpoint to listen on (e.g. tcp/10.0.0.1:7447); repeatable.
+    /// With neither --listen nor --connect, robots find the world by scouting.
+    #[arg(long, value_name = "ENDPOINT")]
+    listen: Vec<String>,
+    /// zenoh: an endpoint to connect to (e.g. a zenoh router's); repeatable.
+    #[arg(long, value_name = "ENDPOINT")]
+    connect: Vec<String>,
+    /// zenoh: the run's key, which agents give too [default: the prefix].
+    #[arg(long)]
+    key: Option<String>,
+    /// zenoh: a link silent this long is lost (a robot's host gone), ms.
+    #[arg(long, default_value_t = gridswarm::net::DEFAULT_LEASE_MS, value_parser = clap::value_parser!(u64).range(100..))]
+    lease_ms: u64,
+    /// The agents run on other hosts: their process ids mean nothing here,
+    /// so their memory and CPU are not measured.
+    #[arg(long)]
+    remote_agents: bool,
 }
 
 /// The run file, its world and start vertices.
@@ -91,13 +116,27 @@ fn run(args: Args) -> Result<(), String> {
         root: ipc::root_dir(&config),
         run_dir: signals::run_dir_of(&args.run, &args.prefix),
     })?;
-    let (run, world, starts) = load(&args.run)?;
-    let robots = run.robots;
+    let loaded = load(&args.run)?;
+    let robots = loaded.0.robots;
+    if args.transport == Transport::Zenoh {
+        let mut net = NetConfig::new(args.key.as_deref().unwrap_or(&args.prefix));
+        net.listen.clone_from(&args.listen);
+        net.connect.clone_from(&args.connect);
+        net.lease_ms = args.lease_ms;
+        let zenoh = ZenohWorld::open(&net, robots)?;
+        return serve(&args, &zenoh, loaded, t0);
+    }
     // Running out of descriptors midway would look like dead robots.
     gridswarm::nofile::ensure(gridswarm::nofile::needed(robots), &format!("a world of {robots} robots"))?;
     let node = link::world_node(&config)?;
     let services = link::Services::create(&node, robots)?;
     let ports = link::Ports::new(&services)?;
+    serve(&args, &transport::Iceoryx2 { ports: &ports, config: &config }, loaded, t0)
+}
+
+/// Runs the world over `link` once it is up, and writes the report.
+fn serve(args: &Args, link: &dyn WorldTransport, (run, world, starts): (RunFile, World, Vec<u32>), t0: Instant) -> Result<(), String> {
+    let robots = run.robots;
     say("ready")?;
     let limits = WireLimits::for_world(robots, world.grid.len(), world.targets.len());
     let patience = Patience {
@@ -105,7 +144,7 @@ fn run(args: Args) -> Result<(), String> {
         limit: Duration::from_secs(args.silence_s),
         progress: args.progress,
     };
-    let mut remote = Remote::new(&ports, &config, limits, patience, run.config.faults.clone());
+    let mut remote = Remote::new(link, limits, patience, run.config.faults.clone());
     remote.hello(Duration::from_millis(args.hello_timeout_ms.unwrap_or(30_000 + 100 * robots as u64)))?;
     let startup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let cpu0 = ipc::cpu_ms_of(std::process::id());
@@ -119,8 +158,9 @@ fn run(args: Args) -> Result<(), String> {
     }
     let world_cpu_ms = ipc::cpu_ms_of(std::process::id()) - cpu0;
     // Measured before `End`, while every agent still runs.
-    let agent_peak_rss_kib = remote.pids().iter().map(|&p| ipc::peak_rss_kib_of(p)).collect();
-    let agent_cpu_ms = remote.pids().iter().map(|&p| ipc::cpu_ms_of(p)).collect();
+    let local = if args.remote_agents { &[][..] } else { remote.pids() };
+    let agent_peak_rss_kib = local.iter().map(|&p| ipc::peak_rss_kib_of(p)).collect();
+    let agent_cpu_ms = local.iter().map(|&p| ipc::cpu_ms_of(p)).collect();
     let world_fds = ipc::open_fds();
     remote.end();
     let report = RunReport {
@@ -136,7 +176,7 @@ fn run(args: Args) -> Result<(), String> {
         agent_peak_rss_kib,
         agent_cpu_ms,
         died: remote.died(),
-        dropped: remote.dropped + ports.mistagged(),
+        dropped: remote.dropped + link.mistagged(),
         liveness_checks: remote.liveness_checks,
         wake_batches: remote.batches,
         largest_wake_bytes: remote.largest_wake,

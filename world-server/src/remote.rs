@@ -1,12 +1,14 @@
 //! Robots in other processes, as the simulated world ([`gridswarm::sim`])
-//! sees them: [`Remote`] implements [`Robots`] over the iceoryx2 ports.
+//! sees them: [`Remote`] implements [`Robots`] over a [`WorldTransport`]
+//! (iceoryx2 or zenoh).
 //! Frames are opaque bytes (`Rc<[u8]>`): the world carries them and never
 //! decodes one.
 //!
 //! A wake-up publishes every call, then waits for every called robot's
 //! answer (matched by sequence number; stale answers are dropped). A robot
-//! that stays silent is checked after a short while: if its process is
-//! gone (its iceoryx2 node dead, or no process under its pid) its answer is
+//! that stays silent is checked after a short while: if the transport says
+//! it is gone (iceoryx2: its node dead, or no process under its pid;
+//! zenoh: its liveliness token vanished) its answer is
 //! `None` and the kernel counts it dead. A live robot silent for longer
 //! than the run's patience is an error that ends the run, naming it, and
 //! so is a wake-up that reaches no listener of a live robot.
@@ -19,12 +21,9 @@ use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 use gridswarm::ipc;
+use gridswarm::transport::WorldTransport;
 use gridswarm::sim::{Delivery, Fault, Output, Robots, Time, Transmit, WakeCall};
 use gridswarm::wire::{self, AgentOutput, Assembler, ByteSlice, ToAgent, ToWorld, WakeRef, WireFrameRef, WireLimits};
-use iceoryx2::config::Config;
-
-use crate::link::{self, Ports};
-
 
 /// A robot's answer to a wake-up, once collected: `Some(None)` when it
 /// turned out dead.
@@ -42,8 +41,7 @@ pub struct Patience {
 
 /// The robots of a run, each in its own process.
 pub struct Remote<'a> {
-    ports: &'a Ports,
-    config: &'a Config,
+    ports: &'a dyn WorldTransport,
     limits: WireLimits,
     patience: Patience,
     faults: Vec<Fault>,
@@ -74,11 +72,10 @@ pub struct Remote<'a> {
 }
 
 impl<'a> Remote<'a> {
-    pub fn new(ports: &'a Ports, config: &'a Config, limits: WireLimits, patience: Patience, faults: Vec<Fault>) -> Self {
+    pub fn new(ports: &'a dyn WorldTransport, limits: WireLimits, patience: Patience, faults: Vec<Fault>) -> Self {
         let n = limits.robots;
         Remote {
             ports,
-            config,
             limits,
             patience,
             faults,
@@ -207,7 +204,7 @@ impl<'a> Remote<'a> {
     /// would never hear the world and the run would crawl on time-outs.
     fn unreachable(&self, r: usize) -> Result<(), String> {
         let pid = self.pids[r];
-        if ipc::pid_liveness(pid) == Some(false) {
+        if self.ports.liveness(r, pid) == Some(false) {
             return Ok(());
         }
         // Counting open files would itself need a descriptor: say the limit.
@@ -243,7 +240,7 @@ impl<'a> Remote<'a> {
             self.woke = woke;
             // An outbox the world cannot read would look like silence.
             if let Some((r, e)) = self.recv_error.take() {
-                if ipc::pid_liveness(self.pids[r]) != Some(false) {
+                if self.ports.liveness(r, self.pids[r]) != Some(false) {
                     return Err(format!("cannot read robot {r}'s answers (pid {}): {e}", self.pids[r]));
                 }
             }
@@ -274,10 +271,11 @@ impl<'a> Remote<'a> {
         Ok(())
     }
 
-    /// Answers `None` for every silent robot whose process is gone; returns
-    /// how many. `/proc` answers in microseconds per robot; iceoryx2's node
-    /// list reads every node's files (milliseconds at 200 robots), so it is
-    /// asked only when `/proc` cannot tell (see [`ipc::pid_alive`]).
+    /// Answers `None` for every silent robot the transport finds gone;
+    /// returns how many. Its quick check (iceoryx2: `/proc`, microseconds
+    /// per robot) goes first; the thorough one (iceoryx2's node list reads
+    /// every node's files, milliseconds at 200 robots) only when the quick
+    /// one cannot tell (see [`ipc::pid_alive`]).
     fn bury_the_dead(&mut self, calls: &[WakeCall<Rc<[u8]>>], slots: &mut [Slot]) -> usize {
         self.liveness_checks += 1;
         let mut dead_nodes: Option<Vec<usize>> = None;
@@ -287,9 +285,9 @@ impl<'a> Remote<'a> {
             if slots[k].is_some() {
                 continue;
             }
-            let gone = match ipc::pid_liveness(self.pids[r]) {
+            let gone = match self.ports.liveness(r, self.pids[r]) {
                 Some(alive) => !alive,
-                None => dead_nodes.get_or_insert_with(|| link::dead_nodes(self.config)).contains(&r),
+                None => dead_nodes.get_or_insert_with(|| self.ports.gone()).contains(&r),
             };
             if gone {
                 slots[k] = Some(None);

@@ -176,6 +176,7 @@ impl FaultPlan {
             kill_random: self.kill_random,
             out: base.out,
             json: base.json,
+            net: Default::default(),
         }
     }
 }

@@ -7,3 +7,4 @@ pub mod check;
 pub mod faults;
 pub mod robots;
 pub mod simulate;
+pub mod transport;

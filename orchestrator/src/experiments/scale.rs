@@ -50,6 +50,8 @@ pub struct ScaleOptions {
     pub max_rounds: u32,
     pub out: PathBuf,
     pub progress: bool,
+    /// What carries the runs' messages (the bench compares both).
+    pub transport: gridswarm::transport::Transport,
 }
 
 
@@ -401,7 +403,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         let (scenario, world) = &worlds[&name];
         for r in 0..opts.runs {
             let seed = run_seed(opts.seed, n, u64::from(r));
-            let ro = RunOptions::for_experiment(
+            let mut ro = RunOptions::for_experiment(
                 name.clone(),
                 opts.algorithm,
                 n,
@@ -410,6 +412,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
                 0,
                 opts.max_rounds,
             );
+            ro.net.transport = opts.transport;
             let what = format!("run {r} with {n} robots, seed {seed}");
             let v = run::execute_as(&ro, &what, &mut warnings).inspect_err(|_| bar.finish_and_clear())?;
             let mut cfg = RunConfig::new(opts.algorithm, seed, scenario.situation);
@@ -603,6 +606,7 @@ mod tests {
             max_rounds: 10,
             out: PathBuf::from("x"),
             progress: false,
+            transport: Default::default(),
         };
         assert_eq!(scenario_for(&o, 13), "paper");
         assert_eq!(scenario_for(&o, 14), "large");

@@ -19,6 +19,7 @@
 
 mod files;
 mod inject;
+mod net;
 mod spawn;
 mod summary;
 
@@ -44,6 +45,7 @@ use crate::rundir::{self, RunRecord};
 use crate::staging::Staging;
 
 pub use files::temp_files;
+pub use net::NetOptions;
 use files::RunFiles;
 use spawn::Processes;
 
@@ -69,6 +71,8 @@ pub struct RunOptions {
     pub kill_random: usize,
     pub out: Option<PathBuf>,
     pub json: bool,
+    /// iceoryx2 or zenoh, and where zenoh's processes meet.
+    pub net: NetOptions,
 }
 
 impl RunOptions {
@@ -96,6 +100,7 @@ impl RunOptions {
             kill_random,
             out: None,
             json: true,
+            net: NetOptions::default(),
         }
     }
 }
@@ -171,6 +176,10 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
         return Err(Error::Input(format!("robots must be in 1..={}, got {robots}", ipc::MAX_ROBOTS)));
     }
     schedule::check(&opts.faults, robots).map_err(Error::Input)?;
+    opts.net.check()?;
+    if opts.net.remote_agents.is_some() && (!opts.faults.is_empty() || opts.kill_random > 0) {
+        return Err(Error::Input("faults are applied by signalling the agents' processes; with --remote-agents the orchestrator has none".into()));
+    }
     for (name, p) in [("--loss", opts.radio.loss), ("--dup", opts.radio.dup)] {
         if !(0.0..=1.0).contains(&p) {
             return Err(Error::Input(format!("{name} {p}: a probability is between 0 and 1")));
@@ -236,7 +245,11 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let (tx, rx) = mpsc::channel();
     launch::forward_signals(tx.clone()).map_err(Error::Run)?;
     let mut procs = Processes::new(&prefix, root);
-    let followed = follow(&mut procs, &files, &plan, &world_bin, &agent_bin, tx, &rx)?;
+    let launch = opts.net.args(&prefix)?;
+    if let Some(key) = &opts.net.remote_agents {
+        eprintln!("{}", net::hand_hint(key, opts, &plan));
+    }
+    let followed = follow(&mut procs, &files, &plan, (&world_bin, &agent_bin), &launch, tx, &rx)?;
     let report = read_report(&files)?;
     // A robot still frozen cannot read `End`.
     for r in inject::still_frozen(&plan.cfg.faults, &followed.applied) {
@@ -288,20 +301,22 @@ fn follow(
     procs: &mut Processes,
     files: &RunFiles,
     plan: &Plan,
-    world_bin: &std::path::Path,
-    agent_bin: &std::path::Path,
+    (world_bin, agent_bin): (&std::path::Path, &std::path::Path),
+    launch: &net::Launch,
     tx: mpsc::Sender<Event>,
     rx: &Receiver<Event>,
 ) -> Result<Followed> {
     let started = Instant::now();
-    if let Err(e) = procs.start_world(world_bin, files, tx) {
+    if let Err(e) = procs.start_world(world_bin, files, tx, &launch.world) {
         procs.abort();
         return Err(e);
     }
     // Until `ready`, the world is building the world and the services.
     wait_ready(procs, rx)?;
     let ready_ms = started.elapsed().as_secs_f64() * 1e3;
-    if let Err(e) = procs.start_agents(agent_bin, files, plan.robots) {
+    // Agents started by hand elsewhere find the world by themselves.
+    let here = if launch.agents_here { plan.robots } else { 0 };
+    if let Err(e) = procs.start_agents(agent_bin, files, here, &launch.agents) {
         procs.abort();
         return Err(e);
     }

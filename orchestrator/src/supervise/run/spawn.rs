@@ -125,7 +125,7 @@ impl Processes {
 
     /// Starts the world-server; its stdout lines go to `tx`, its stderr
     /// to the run's world log ([`Processes::world_said`]).
-    pub fn start_world(&mut self, bin: &Path, files: &RunFiles, tx: Sender<Event>) -> Result<()> {
+    pub fn start_world(&mut self, bin: &Path, files: &RunFiles, tx: Sender<Event>, extra: &[String]) -> Result<()> {
         let log_path = files.world_log();
         let log = fs::File::create(&log_path).map_err(Error::write(&log_path))?;
         self.world_log = Some(log_path);
@@ -137,6 +137,7 @@ impl Processes {
             .arg("--report")
             .arg(files.report())
             .arg("--progress")
+            .args(extra)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(log);
@@ -154,13 +155,14 @@ impl Processes {
     }
 
     /// Starts robot-agent `0..robots`, their stderr into the run's log.
-    pub fn start_agents(&mut self, bin: &Path, files: &RunFiles, robots: usize) -> Result<()> {
+    pub fn start_agents(&mut self, bin: &Path, files: &RunFiles, robots: usize, extra: &[String]) -> Result<()> {
         let log_path = files.agent_log();
         let log = fs::File::create(&log_path).map_err(Error::write(&log_path))?;
         self.agent_log = Some(log_path.clone());
         let world_pid = self.world_pid().to_string();
         let (bin, prefix) = (bin.to_path_buf(), self.prefix.clone());
         let setups: Vec<PathBuf> = (0..robots).map(|i| files.setup(i)).collect();
+        let extra = extra.to_vec();
         let (children, error) = self.spawners.spawn_all(robots, move |i| {
             let mut cmd = Command::new(&bin);
             cmd.arg("--prefix")
@@ -169,6 +171,7 @@ impl Processes {
                 .arg(&setups[i])
                 .arg("--world-pid")
                 .arg(&world_pid)
+                .args(&extra)
                 .stdin(Stdio::null())
                 .stdout(Stdio::null())
                 .stderr(log.try_clone().map_err(Error::write(&log_path))?);

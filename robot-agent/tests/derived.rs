@@ -1,0 +1,56 @@
+//! An agent started by hand (zenoh, another host) has no setup file: it
+//! derives its setup from the scenario, seed and robot number, and that
+//! must be exactly the setup the orchestrator writes for the same run.
+
+use std::process::Command;
+
+use gridswarm::params::Situation;
+use gridswarm::policy::Policy;
+use gridswarm::setup::RobotSetup;
+use gridswarm_orchestrator::run::{self, RunOptions};
+
+fn agent() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_robot-agent"))
+}
+
+#[test]
+fn a_derived_setup_is_the_one_the_orchestrator_writes() {
+    let cases = [
+        ("paper", Policy::Repulsive, Situation::Two, None, 7),
+        ("paper", Policy::Sequential, Situation::One, Some(2), 12),
+        ("random:3", Policy::Escape, Situation::One, None, 0),
+    ];
+    for (scenario, policy, situation, retries, robot) in cases {
+        let mut o = RunOptions::for_experiment(scenario.into(), policy, 13, 41, situation, 0, 100);
+        o.retries = retries;
+        let plan = run::plan(&o).unwrap();
+        let written = RobotSetup::new(&plan.world, &plan.cfg, robot);
+        let sit = if situation == Situation::One { 1 } else { 2 };
+        let derived = robot_agent::derived_setup(scenario, robot, 41, policy.name(), Some(sit), retries).unwrap();
+        assert_eq!(derived, written, "{scenario} {policy} robot {robot}");
+    }
+    let err = robot_agent::derived_setup("paper", 0, 1, "lfp", None, None).unwrap_err();
+    assert!(err.contains("lfp"), "{err}");
+    assert!(robot_agent::derived_setup("nowhere", 0, 1, "repulsive", None, None).is_err());
+    assert!(robot_agent::derived_setup("paper", 0, 1, "repulsive", Some(3), None).is_err());
+}
+
+#[test]
+fn without_a_setup_or_a_scenario_it_is_a_usage_error() {
+    let out = agent().args(["--prefix", "k", "--transport", "zenoh"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn a_zenoh_agent_with_no_world_gives_up_in_one_line() {
+    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+    let out = agent()
+        .args(["--transport", "zenoh", "--prefix", "noworld", "--connect", &format!("tcp/127.0.0.1:{port}")])
+        .args(["--connect-timeout-ms", "300", "--scenario", "paper", "--seed", "1", "--robot", "0"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("robot-agent 0: error: "), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}

@@ -1,0 +1,155 @@
+//! The zenoh transport (feature `zenoh`): the distributed engine's messages
+//! over any network, for world-server and robot-agents on separate hosts.
+//! The world is a zenoh router (it listens), each robot a client
+//! connected to it: the same star as iceoryx2, so the world still carries
+//! every frame and decides its fate from the seed, and a run is the same
+//! byte for byte whichever transport carries it.
+//!
+//! Key expressions are rooted at the run's key, `gridswarm/<key>/`, so two
+//! runs on one network never cross: `in/<r>` (the world to robot `r`),
+//! `out/<r>` (robot `r` to the world), liveliness tokens `alive/<r>` (a
+//! robot) and `world`. A token vanishes with its session: a process that
+//! dies at once (its TCP connection closes), a lost host once its lease
+//! ([`NetConfig::lease_ms`]) runs out. The world reads that as a dead
+//! robot, for physics only; robots learn of each other only from silence.
+//!
+//! Endpoints are zenoh's (`tcp/10.0.0.1:7447`). With neither `listen` nor
+//! `connect`, the robots find the world by multicast scouting; with either,
+//! scouting is off, so a run on one machine never touches the network.
+
+mod agent;
+mod world;
+
+pub use agent::ZenohAgent;
+pub use world::ZenohWorld;
+
+use std::time::Duration;
+
+use crate::ipc;
+use crate::wire;
+
+/// Where a process of the run meets the others.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct NetConfig {
+    /// The run's key: the root of its key expressions.
+    pub key: String,
+    /// Endpoints to listen on (the world's; a robot's stay empty).
+    pub listen: Vec<String>,
+    /// Endpoints to connect to (a robot's: the world's).
+    pub connect: Vec<String>,
+    /// How long a silent link lives: a lost host is found this late.
+    pub lease_ms: u64,
+    /// How long a robot waits for the world to appear.
+    pub connect_timeout: Duration,
+}
+
+/// The default lease: long enough for a process starved of CPU on a busy
+/// machine to send its keep-alive (every quarter lease), short enough that
+/// a lost host stalls the run only that long.
+pub const DEFAULT_LEASE_MS: u64 = 2_000;
+
+impl NetConfig {
+    pub fn new(key: &str) -> Self {
+        NetConfig {
+            key: key.to_string(),
+            listen: Vec::new(),
+            connect: Vec::new(),
+            lease_ms: DEFAULT_LEASE_MS,
+            connect_timeout: Duration::from_secs(60),
+        }
+    }
+
+    /// Whether robots and world find each other by multicast scouting.
+    pub fn scouting(&self) -> bool {
+        self.listen.is_empty() && self.connect.is_empty()
+    }
+
+    fn root(&self) -> Result<String, String> {
+        crate::transport::check_key(&self.key)?;
+        Ok(format!("gridswarm/{}", self.key))
+    }
+
+    /// zenoh's configuration for a process in `mode` (`router`, `client`).
+    fn zenoh(&self, mode: &str) -> Result<zenoh::Config, String> {
+        let mut c = zenoh::Config::default();
+        let mut set = |k: &str, v: String| {
+            c.insert_json5(k, &v).map_err(|e| format!("zenoh setting {k} = {v}: {e}"))
+        };
+        set("mode", quote(mode)?)?;
+        set("scouting/multicast/enabled", self.scouting().to_string())?;
+        // Robots talk to the world only: nothing to gossip about.
+        set("scouting/gossip/enabled", "false".into())?;
+        if !self.listen.is_empty() {
+            set("listen/endpoints", list(&self.listen)?)?;
+        }
+        if !self.connect.is_empty() {
+            set("connect/endpoints", list(&self.connect)?)?;
+        }
+        if mode == "client" {
+            // Agents started by hand may come up before the world.
+            set("connect/timeout_ms", self.connect_timeout.as_millis().to_string())?;
+        }
+        set("transport/link/tx/lease", self.lease_ms.max(100).to_string())?;
+        Ok(c)
+    }
+}
+
+/// A JSON string of `s`, which may hold no quote, backslash or control.
+fn quote(s: &str) -> Result<String, String> {
+    if s.chars().any(|c| c == '"' || c == '\\' || c.is_control()) {
+        return Err(format!("`{s}` is not a zenoh endpoint"));
+    }
+    Ok(format!("\"{s}\""))
+}
+
+fn list(items: &[String]) -> Result<String, String> {
+    let quoted: Result<Vec<String>, String> = items.iter().map(|s| quote(s)).collect();
+    Ok(format!("[{}]", quoted?.join(",")))
+}
+
+/// Sends `bytes` as the one chunk of message `seq` (zenoh fragments big
+/// payloads itself), refusing what iceoryx2 would refuse, so that a run
+/// that fits one transport fits the other.
+fn one_chunk(seq: u64, bytes: &[u8], max_chunks: usize, mut put: impl FnMut(Vec<u8>) -> Result<(), String>) -> Result<(), String> {
+    let n = wire::chunk_count(bytes.len(), ipc::CHUNK_BYTES);
+    if n > max_chunks {
+        return Err(format!("a message of {} bytes needs {n} chunks; the limit is {max_chunks}", bytes.len()));
+    }
+    let mut res = Ok(());
+    wire::chunks(seq, bytes, bytes.len() + wire::CHUNK_HEADER, |c| {
+        if res.is_ok() {
+            res = put(c.to_vec());
+        }
+    });
+    res
+}
+
+fn err(what: &str) -> impl Fn(zenoh::Error) -> String + '_ {
+    move |e| format!("zenoh: {what}: {e}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_root_the_run() {
+        assert!(NetConfig::new("a/**").root().is_err_and(|e| e.contains("not a run key")));
+        assert_eq!(NetConfig::new("k").root().unwrap(), "gridswarm/k");
+    }
+
+    #[test]
+    fn scouting_only_without_endpoints() {
+        let mut n = NetConfig::new("k");
+        assert!(n.scouting());
+        n.connect = vec!["tcp/127.0.0.1:7447".into()];
+        assert!(!n.scouting());
+        let c = n.zenoh("client").unwrap();
+        assert_eq!(c.get_json("scouting/multicast/enabled").unwrap(), "false");
+        assert!(c.get_json("connect/endpoints").unwrap().contains("tcp/127.0.0.1:7447"));
+        n.connect = vec!["tcp/\"x".into()];
+        assert!(n.zenoh("client").is_err());
+        n.connect = vec!["nonsense".into()];
+        assert!(n.zenoh("client").is_err(), "zenoh checks the endpoint's syntax");
+    }
+}

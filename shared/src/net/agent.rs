@@ -1,0 +1,106 @@
+//! A robot's zenoh side: a client of the world's router with a subscriber
+//! on its inbox, a publisher for its answers, its liveliness token, and a
+//! watch on the world's token.
+
+use std::cell::{Cell, RefCell};
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+use zenoh::handlers::FifoChannelHandler;
+use zenoh::liveliness::LivelinessToken;
+use zenoh::pubsub::{Publisher, Subscriber};
+use zenoh::qos::CongestionControl;
+use zenoh::sample::{Sample, SampleKind};
+use zenoh::{Session, Wait};
+
+use super::{err, one_chunk, NetConfig};
+use crate::ipc;
+use crate::transport::AgentTransport;
+
+pub struct ZenohAgent {
+    outbox: Publisher<'static>,
+    inbox: Subscriber<FifoChannelHandler<Sample>>,
+    world: Subscriber<FifoChannelHandler<Sample>>,
+    _token: LivelinessToken,
+    /// Chunks taken off the inbox by `wait`, not read yet.
+    stash: RefCell<VecDeque<Vec<u8>>>,
+    world_up: Cell<bool>,
+    _session: Session,
+}
+
+impl ZenohAgent {
+    /// Connects robot `robot` and waits (up to the connect timeout) until
+    /// the world is there, so that its hello is heard.
+    pub fn open(net: &NetConfig, robot: usize) -> Result<Self, String> {
+        let root = net.root()?;
+        let session = zenoh::open(net.zenoh("client")?).wait().map_err(err("cannot reach the world"))?;
+        let inbox = session.declare_subscriber(format!("{root}/in/{robot}")).wait().map_err(err("cannot subscribe to the inbox"))?;
+        let outbox = session
+            .declare_publisher(format!("{root}/out/{robot}"))
+            .congestion_control(CongestionControl::Block)
+            .express(true)
+            .wait()
+            .map_err(err("cannot declare the outbox"))?;
+        let world = session
+            .liveliness()
+            .declare_subscriber(format!("{root}/world"))
+            .history(true)
+            .wait()
+            .map_err(err("cannot follow the world's token"))?;
+        let token = session.liveliness().declare_token(format!("{root}/alive/{robot}")).wait().map_err(err("cannot declare the robot's token"))?;
+        let agent = ZenohAgent {
+            outbox,
+            inbox,
+            world,
+            _token: token,
+            stash: RefCell::new(VecDeque::new()),
+            world_up: Cell::new(false),
+            _session: session,
+        };
+        let deadline = Instant::now() + net.connect_timeout;
+        while !agent.world_alive() {
+            if Instant::now() >= deadline {
+                return Err(format!("no world of run `{}` appeared within {:?}", net.key, net.connect_timeout));
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        Ok(agent)
+    }
+}
+
+impl AgentTransport for ZenohAgent {
+    fn send(&self, seq: u64, bytes: &[u8]) -> Result<(), String> {
+        one_chunk(seq, bytes, ipc::OUTBOX_CHUNKS, |c| self.outbox.put(c).wait().map_err(err("cannot publish")))
+    }
+
+    fn wait(&self, timeout: Duration) {
+        if !self.stash.borrow().is_empty() {
+            return;
+        }
+        if let Ok(Some(s)) = self.inbox.recv_timeout(timeout) {
+            self.stash.borrow_mut().push_back(s.payload().to_bytes().into_owned());
+        }
+    }
+
+    fn recv(&self, buf: &mut Vec<u8>) -> Result<bool, String> {
+        let next = self.stash.borrow_mut().pop_front();
+        let next = match next {
+            Some(c) => Some(c),
+            None => self.inbox.try_recv().map_err(err("cannot receive"))?.map(|s| s.payload().to_bytes().into_owned()),
+        };
+        match next {
+            Some(c) => {
+                *buf = c;
+                Ok(true)
+            }
+            None => Ok(false),
+        }
+    }
+
+    fn world_alive(&self) -> bool {
+        while let Ok(Some(s)) = self.world.try_recv() {
+            self.world_up.set(s.kind() == SampleKind::Put);
+        }
+        self.world_up.get()
+    }
+}

@@ -1,0 +1,160 @@
+//! The world's zenoh side: a router with a publisher into every robot's
+//! inbox, one subscriber on every robot's answers, and one on the robots'
+//! liveliness tokens.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::time::Duration;
+
+use zenoh::handlers::{FifoChannel, FifoChannelHandler};
+use zenoh::liveliness::LivelinessToken;
+use zenoh::pubsub::{Publisher, Subscriber};
+use zenoh::qos::CongestionControl;
+use zenoh::sample::{Sample, SampleKind};
+use zenoh::{Session, Wait};
+
+use super::{err, one_chunk, NetConfig};
+use crate::ipc;
+use crate::transport::WorldTransport;
+
+/// Answers the world's subscriber holds before zenoh's receiving thread
+/// waits for the world to read them (every robot's answer to one wake-up).
+const QUEUE: usize = 8192;
+
+/// What the world knows of a robot's token.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Presence {
+    Unseen,
+    Alive,
+    Gone,
+}
+
+pub struct ZenohWorld {
+    inboxes: Vec<Publisher<'static>>,
+    answers: Subscriber<FifoChannelHandler<Sample>>,
+    tokens: Subscriber<FifoChannelHandler<Sample>>,
+    /// Declared last: a robot that sees it can be heard.
+    _token: LivelinessToken,
+    /// Chunks received, by robot, not read yet.
+    queues: RefCell<Vec<VecDeque<Vec<u8>>>>,
+    presence: RefCell<Vec<Presence>>,
+    out_prefix: String,
+    alive_prefix: String,
+    /// Dropped last (fields drop in order).
+    _session: Session,
+}
+
+impl ZenohWorld {
+    /// Opens the world's router for `robots` robots.
+    pub fn open(net: &NetConfig, robots: usize) -> Result<Self, String> {
+        let root = net.root()?;
+        let session = zenoh::open(net.zenoh("router")?).wait().map_err(err("cannot open the world's session"))?;
+        let mut inboxes = Vec::with_capacity(robots);
+        for r in 0..robots {
+            let p = session
+                .declare_publisher(format!("{root}/in/{r}"))
+                .congestion_control(CongestionControl::Block)
+                // Sent at once, not batched: a round is a chain of round trips.
+                .express(true)
+                .wait()
+                .map_err(err("cannot declare a publisher"))?;
+            inboxes.push(p);
+        }
+        let answers = session
+            .declare_subscriber(format!("{root}/out/*"))
+            .with(FifoChannel::new(QUEUE))
+            .wait()
+            .map_err(err("cannot declare the answers' subscriber"))?;
+        let tokens = session
+            .liveliness()
+            .declare_subscriber(format!("{root}/alive/*"))
+            .history(true)
+            .with(FifoChannel::new(QUEUE))
+            .wait()
+            .map_err(err("cannot follow the robots' tokens"))?;
+        let token = session.liveliness().declare_token(format!("{root}/world")).wait().map_err(err("cannot declare the world's token"))?;
+        Ok(ZenohWorld {
+            inboxes,
+            answers,
+            tokens,
+            _token: token,
+            queues: RefCell::new(vec![VecDeque::new(); robots]),
+            presence: RefCell::new(vec![Presence::Unseen; robots]),
+            out_prefix: format!("{root}/out/"),
+            alive_prefix: format!("{root}/alive/"),
+            _session: session,
+        })
+    }
+
+    /// The robot a key names under `prefix`, if it is one of the run's.
+    fn robot_of(&self, key: &str, prefix: &str) -> Option<usize> {
+        let r: usize = key.strip_prefix(prefix)?.parse().ok()?;
+        (r < self.inboxes.len()).then_some(r)
+    }
+
+    /// Files an answer's chunk under its robot; returns the robot.
+    fn file(&self, s: &Sample) -> Option<usize> {
+        let r = self.robot_of(s.key_expr().as_str(), &self.out_prefix)?;
+        self.queues.borrow_mut()[r].push_back(s.payload().to_bytes().into_owned());
+        Some(r)
+    }
+
+    /// Reads every token change that came.
+    fn follow_tokens(&self) {
+        let mut p = self.presence.borrow_mut();
+        while let Ok(Some(s)) = self.tokens.try_recv() {
+            if let Some(r) = self.robot_of(s.key_expr().as_str(), &self.alive_prefix) {
+                p[r] = match s.kind() {
+                    SampleKind::Put => Presence::Alive,
+                    SampleKind::Delete => Presence::Gone,
+                };
+            }
+        }
+    }
+}
+
+impl WorldTransport for ZenohWorld {
+    fn post(&self, r: usize, seq: u64, bytes: &[u8]) -> Result<(), String> {
+        let inbox = &self.inboxes[r];
+        one_chunk(seq, bytes, ipc::INBOX_CHUNKS, |c| inbox.put(c).wait().map_err(err("cannot publish")))
+            .map_err(|e| format!("robot {r}'s inbox: {e}"))
+    }
+
+    /// The message itself wakes the robot; only a token gone says nobody
+    /// will read it.
+    fn notify(&self, r: usize) -> bool {
+        self.follow_tokens();
+        self.presence.borrow()[r] != Presence::Gone
+    }
+
+    fn wait(&self, timeout: Duration, woke: &mut Vec<usize>) {
+        if let Ok(Some(s)) = self.answers.recv_timeout(timeout) {
+            woke.extend(self.file(&s));
+        }
+        while let Ok(Some(s)) = self.answers.try_recv() {
+            woke.extend(self.file(&s));
+        }
+    }
+
+    fn recv(&self, r: usize, buf: &mut Vec<u8>) -> Result<bool, String> {
+        match self.queues.borrow_mut()[r].pop_front() {
+            Some(c) => {
+                *buf = c;
+                Ok(true)
+            }
+            None => Ok(false),
+        }
+    }
+
+    /// A robot is there until its token vanishes; the pid is another
+    /// host's, if the robot runs elsewhere, so it is not looked at.
+    fn liveness(&self, r: usize, _pid: u32) -> Option<bool> {
+        self.follow_tokens();
+        Some(self.presence.borrow()[r] != Presence::Gone)
+    }
+
+    fn gone(&self) -> Vec<usize> {
+        self.follow_tokens();
+        self.presence.borrow().iter().enumerate().filter(|(_, p)| **p == Presence::Gone).map(|(r, _)| r).collect()
+    }
+}

@@ -1,0 +1,131 @@
+//! The distributed engine's transport, as the world-server and a
+//! robot-agent use it: the world posts a message into robot `r`'s inbox and
+//! wakes it, waits for any robot's answer and reads it back; a robot waits
+//! for its inbox, reads it and answers. Messages are [`crate::wire`] bytes
+//! in [`crate::wire::chunks`]: the transport carries them and never decodes
+//! one, and neither the decision core nor the radio protocol knows which
+//! transport runs underneath.
+//!
+//! Two implementations: iceoryx2 (shared memory, one machine, the default;
+//! the world-server's and the agent's `Ports`) and zenoh (any network,
+//! [`crate::net`], feature `zenoh`).
+//!
+//! Liveness is the transport's too: iceoryx2 knows a robot by its process
+//! on this host, zenoh by a liveliness token that vanishes with its
+//! session (a dead process, or a host lost once its lease runs out). Either
+//! way the world learns only that the robot is gone for physics; the robots
+//! find out from silence, as with any failure.
+
+use std::time::Duration;
+
+/// Which transport a distributed run uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Transport {
+    /// Shared memory between processes of one machine.
+    #[default]
+    Iceoryx2,
+    /// zenoh over TCP: processes on any hosts that reach each other.
+    Zenoh,
+}
+
+impl Transport {
+    pub const ALL: [Transport; 2] = [Transport::Iceoryx2, Transport::Zenoh];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Transport::Iceoryx2 => "iceoryx2",
+            Transport::Zenoh => "zenoh",
+        }
+    }
+}
+
+impl std::fmt::Display for Transport {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Transport {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Transport::ALL
+            .into_iter()
+            .find(|t| t.name() == s)
+            .ok_or_else(|| format!("unknown transport `{s}` (expected iceoryx2 or zenoh)"))
+    }
+}
+
+/// A run key (the root of a zenoh run's key expressions): letters,
+/// digits, `_`, `-`, `.`, so it is one chunk of a key expression and can
+/// hold no wildcard.
+pub fn check_key(key: &str) -> Result<(), String> {
+    let ok = !key.is_empty()
+        && key.len() <= 100
+        && key.bytes().all(|b| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'-' | b'.'));
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("`{key}` is not a run key (1 to 100 letters, digits, `_`, `-`, `.`)"))
+    }
+}
+
+/// The world's side: one inbox per robot, one queue of answers.
+pub trait WorldTransport {
+    /// Puts one message (numbered `seq`) into robot `r`'s inbox, in chunks.
+    fn post(&self, r: usize, seq: u64, bytes: &[u8]) -> Result<(), String>;
+    /// Wakes robot `r` to read its inbox; false if the transport knows that
+    /// nobody listens there.
+    fn notify(&self, r: usize) -> bool;
+    /// Waits up to `timeout` for robots to answer; pushes their ids.
+    fn wait(&self, timeout: Duration, woke: &mut Vec<usize>);
+    /// Takes the next chunk robot `r` sent into `buf`, if any. An error is
+    /// a connection to the robot that failed.
+    fn recv(&self, r: usize, buf: &mut Vec<u8>) -> Result<bool, String>;
+    /// Whether robot `r` (process `pid`, as its hello said) is still there:
+    /// `Some(false)` gone, `None` when this quick check cannot tell.
+    fn liveness(&self, r: usize, pid: u32) -> Option<bool>;
+    /// The robots known to be gone, by the transport's thorough check
+    /// (asked only when [`WorldTransport::liveness`] cannot tell).
+    fn gone(&self) -> Vec<usize>;
+    /// Messages it dropped as not its robots' (a chunk tagged with a robot
+    /// outside its service's group): counted with the run's dropped frames.
+    fn mistagged(&self) -> u64 {
+        0
+    }
+}
+
+/// A robot's side: its inbox, its answers, and whether the world is there.
+pub trait AgentTransport {
+    /// Sends one message (numbered `seq`) to the world, in chunks, and wakes it.
+    fn send(&self, seq: u64, bytes: &[u8]) -> Result<(), String>;
+    /// Sleeps until the world posts something, or `timeout`.
+    fn wait(&self, timeout: Duration);
+    /// Takes the next chunk of the inbox into `buf`, if any.
+    fn recv(&self, buf: &mut Vec<u8>) -> Result<bool, String>;
+    /// False once the world is known to be gone.
+    fn world_alive(&self) -> bool;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transports_parse_by_name_and_nothing_else() {
+        for t in Transport::ALL {
+            assert_eq!(t.name().parse::<Transport>(), Ok(t));
+        }
+        assert_eq!(Transport::default(), Transport::Iceoryx2);
+        assert!("Zenoh".parse::<Transport>().unwrap_err().contains("unknown transport `Zenoh`"));
+        assert!("".parse::<Transport>().is_err());
+    }
+
+    #[test]
+    fn keys_are_one_plain_chunk() {
+        assert!(check_key("gs12x00ab12_").is_ok());
+        assert!(check_key("lab-run.3").is_ok());
+        for bad in ["", "a/b", "a*", "**", "$x", "a b", &"k".repeat(101)] {
+            assert!(check_key(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,74 @@
+//! `gridswarm run --transport zenoh` on one machine: the world-server
+//! listens on 127.0.0.1 (a free port, no scouting) and every robot-agent
+//! connects to it over TCP. The run must be the in-process run byte for
+//! byte, as over iceoryx2, also when a robot's process is killed (the
+//! world learns it from the robot's liveliness token), and leave nothing
+//! behind.
+
+use std::fs;
+use std::path::Path;
+
+use gridswarm_e2e::*;
+use serde_json::Value;
+
+/// `gridswarm run --json --transport zenoh --out DIR ARGS`; checks nothing is left.
+fn zenoh_run(dir: &Path, args: &[&str]) -> Value {
+    let all = [&["run", "--json", "--transport", "zenoh", "--out", dir.to_str().unwrap()][..], args].concat();
+    let v = finished(&gridswarm().args(&all).output().unwrap(), &all);
+    assert_no_leftovers(v["ipc_prefix"].as_str().unwrap());
+    v
+}
+
+fn same_files(tag: &str, run: &Path, sim: &Path) {
+    for file in ["trajectories.jsonl", "rounds.csv"] {
+        let (a, b) = (fs::read(run.join(file)).unwrap(), fs::read(sim.join(file)).unwrap());
+        assert!(!a.is_empty(), "{tag}: {file} is empty");
+        assert!(a == b, "{tag}: {file} differs between run over zenoh and simulate");
+    }
+}
+
+#[test]
+fn a_zenoh_run_on_paper_is_the_in_process_run() {
+    let _s = serial();
+    let dir = scratch("zenoh-equivalence");
+    let args = ["--scenario", "paper", "--robots", "13", "--seed", "7"];
+    let (run, sim) = (dir.join("run"), dir.join("sim"));
+    let v = zenoh_run(&run, &args);
+    search(&[&["simulate", "--out", sim.to_str().unwrap()][..], &args[..]].concat());
+    same_files("paper-13-7", &run, &sim);
+    assert_eq!(v["complete"], true);
+    assert_eq!(v["collisions"], 0);
+    assert_eq!(v["dropped_messages"]["total"], 0);
+    assert_eq!(v["died"], serde_json::json!([]));
+    assert_eq!(v["agents_killed_at_end"], 0, "every agent ends by itself on End");
+    assert!(v["agent_peak_rss_kib"]["max"].as_f64().unwrap() > 0.0, "agents on this host are measured");
+}
+
+#[test]
+fn a_robot_killed_over_zenoh_is_dead_to_the_world_as_in_process() {
+    let _s = serial();
+    let dir = scratch("zenoh-kill");
+    let args = ["--scenario", "paper", "--robots", "13", "--seed", "3", "--kill", "4@3+0.2"];
+    let (run, sim) = (dir.join("run"), dir.join("sim"));
+    let v = zenoh_run(&run, &args);
+    search(&[&["simulate", "--out", sim.to_str().unwrap()][..], &args[..]].concat());
+    same_files("kill", &run, &sim);
+    assert_eq!(v["collisions"], 0);
+    let declared = v["failures_detected"].as_array().unwrap();
+    assert!(!declared.is_empty(), "the robots declare the dead one: {v}");
+}
+
+#[test]
+fn zenoh_only_flags_are_refused_on_iceoryx2_and_keys_are_checked() {
+    let _s = serial();
+    let out = gridswarm().args(["run", "--listen", "tcp/127.0.0.1:7447"]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("need --transport zenoh"), "{}", text(&out.stderr));
+    let out = gridswarm().args(["run", "--transport", "zenoh", "--remote-agents", "a/*"]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("not a run key"), "{}", text(&out.stderr));
+    let out = gridswarm().args(["run", "--transport", "zenoh", "--remote-agents", "k", "--kill", "1@2"]).output().unwrap();
+    assert!(text(&out.stderr).contains("--remote-agents the orchestrator has none"), "{}", text(&out.stderr));
+    let out = gridswarm().args(["run", "--transport", "carrier-pigeon"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}
