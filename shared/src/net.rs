@@ -45,11 +45,8 @@ pub struct NetConfig {
 
 /// The default lease: long enough for a process starved of CPU on a busy
 /// machine to send its keep-alive (every quarter lease), short enough that
-/// a lost host stalls the run only that long. At 2 s, healthy agents lost
-/// their sessions when the namespace test ran beside a Fig. 7 sweep on 2
-/// cores (the world then waited 30 s on their lost answers); at 6 s they
-/// did not.
-pub const DEFAULT_LEASE_MS: u64 = 6_000;
+/// a lost host stalls the run only that long.
+pub const DEFAULT_LEASE_MS: u64 = 2_000;
 
 impl NetConfig {
     pub fn new(key: &str) -> Self {
