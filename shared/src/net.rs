@@ -13,11 +13,18 @@
 //! ([`NetConfig::lease_ms`]) runs out. The world reads that as a dead
 //! robot, for physics only; robots learn of each other only from silence.
 //!
+//! A session can drop and come back (a lease run out under a starved
+//! CPU, a flapping link), losing what was put meanwhile: the world puts a
+//! message again while its answer is missing, and a robot answers a repeat
+//! with the answer it sent ([`retry`]), so the run goes on as if nothing
+//! was lost.
+//!
 //! Endpoints are zenoh's (`tcp/10.0.0.1:7447`). With neither `listen` nor
 //! `connect`, the robots find the world by multicast scouting; with either,
 //! scouting is off, so a run on one machine never touches the network.
 
 mod agent;
+mod retry;
 mod world;
 
 pub use agent::ZenohAgent;
@@ -107,21 +114,17 @@ fn list(items: &[String]) -> Result<String, String> {
     Ok(format!("[{}]", quoted?.join(",")))
 }
 
-/// Sends `bytes` as the one chunk of message `seq` (zenoh fragments big
+/// `bytes` as the one chunk of message `seq` (zenoh fragments big
 /// payloads itself), refusing what iceoryx2 would refuse, so that a run
 /// that fits one transport fits the other.
-fn one_chunk(seq: u64, bytes: &[u8], max_chunks: usize, mut put: impl FnMut(Vec<u8>) -> Result<(), String>) -> Result<(), String> {
+fn one_chunk(seq: u64, bytes: &[u8], max_chunks: usize) -> Result<Vec<u8>, String> {
     let n = wire::chunk_count(bytes.len(), ipc::CHUNK_BYTES);
     if n > max_chunks {
         return Err(format!("a message of {} bytes needs {n} chunks; the limit is {max_chunks}", bytes.len()));
     }
-    let mut res = Ok(());
-    wire::chunks(seq, bytes, bytes.len() + wire::CHUNK_HEADER, |c| {
-        if res.is_ok() {
-            res = put(c.to_vec());
-        }
-    });
-    res
+    let mut chunk = Vec::new();
+    wire::chunks(seq, bytes, bytes.len() + wire::CHUNK_HEADER, |c| chunk = c.to_vec());
+    Ok(chunk)
 }
 
 fn err(what: &str) -> impl Fn(zenoh::Error) -> String + '_ {

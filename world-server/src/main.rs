@@ -124,7 +124,12 @@ fn run(args: Args) -> Result<(), String> {
         net.connect.clone_from(&args.connect);
         net.lease_ms = args.lease_ms;
         let zenoh = ZenohWorld::open(&net, robots)?;
-        return serve(&args, &zenoh, loaded, t0);
+        let res = serve(&args, &zenoh, loaded, t0);
+        if zenoh.repeats() > 0 {
+            // A session that dropped and came back, or a robot starved of CPU.
+            eprintln!("warning: {} message(s) put again to robots that had not answered", zenoh.repeats());
+        }
+        return res;
     }
     // Running out of descriptors midway would look like dead robots.
     gridswarm::nofile::ensure(gridswarm::nofile::needed(robots), &format!("a world of {robots} robots"))?;

@@ -13,6 +13,7 @@ use zenoh::qos::CongestionControl;
 use zenoh::sample::{Sample, SampleKind};
 use zenoh::{Session, Wait};
 
+use super::retry::{seq_of, Incoming, Replies};
 use super::{err, one_chunk, NetConfig};
 use crate::ipc;
 use crate::transport::AgentTransport;
@@ -25,6 +26,8 @@ pub struct ZenohAgent {
     /// Chunks taken off the inbox by `wait`, not read yet.
     stash: RefCell<VecDeque<Vec<u8>>>,
     world_up: Cell<bool>,
+    /// The newest message read and its answer, for the world's repeats.
+    replies: RefCell<Replies>,
     _session: Session,
 }
 
@@ -55,6 +58,7 @@ impl ZenohAgent {
             _token: token,
             stash: RefCell::new(VecDeque::new()),
             world_up: Cell::new(false),
+            replies: RefCell::new(Replies::default()),
             _session: session,
         };
         let deadline = Instant::now() + net.connect_timeout;
@@ -70,7 +74,9 @@ impl ZenohAgent {
 
 impl AgentTransport for ZenohAgent {
     fn send(&self, seq: u64, bytes: &[u8]) -> Result<(), String> {
-        one_chunk(seq, bytes, ipc::OUTBOX_CHUNKS, |c| self.outbox.put(c).wait().map_err(err("cannot publish")))
+        let chunk = one_chunk(seq, bytes, ipc::OUTBOX_CHUNKS)?;
+        self.replies.borrow_mut().sent(seq, &chunk);
+        self.outbox.put(chunk).wait().map_err(err("cannot publish"))
     }
 
     fn wait(&self, timeout: Duration) {
@@ -82,18 +88,30 @@ impl AgentTransport for ZenohAgent {
         }
     }
 
+    /// The next message not read before; a repeat of the one answered
+    /// last is answered again on the way.
     fn recv(&self, buf: &mut Vec<u8>) -> Result<bool, String> {
-        let next = self.stash.borrow_mut().pop_front();
-        let next = match next {
-            Some(c) => Some(c),
-            None => self.inbox.try_recv().map_err(err("cannot receive"))?.map(|s| s.payload().to_bytes().into_owned()),
-        };
-        match next {
-            Some(c) => {
-                *buf = c;
-                Ok(true)
+        loop {
+            let next = self.stash.borrow_mut().pop_front();
+            let chunk = match next {
+                Some(c) => c,
+                None => match self.inbox.try_recv().map_err(err("cannot receive"))? {
+                    Some(s) => s.payload().to_bytes().into_owned(),
+                    None => return Ok(false),
+                },
+            };
+            let Some(seq) = seq_of(&chunk) else {
+                *buf = chunk;
+                return Ok(true);
+            };
+            match self.replies.borrow_mut().came(seq) {
+                Incoming::New => {
+                    *buf = chunk;
+                    return Ok(true);
+                }
+                Incoming::Answered(answer) => self.outbox.put(answer.to_vec()).wait().map_err(err("cannot publish"))?,
+                Incoming::Old => {}
             }
-            None => Ok(false),
         }
     }
 

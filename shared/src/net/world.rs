@@ -4,7 +4,7 @@
 
 use std::cell::RefCell;
 use std::collections::VecDeque;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use zenoh::handlers::{FifoChannel, FifoChannelHandler};
 use zenoh::liveliness::LivelinessToken;
@@ -13,6 +13,7 @@ use zenoh::qos::CongestionControl;
 use zenoh::sample::{Sample, SampleKind};
 use zenoh::{Session, Wait};
 
+use super::retry::Outstanding;
 use super::{err, one_chunk, NetConfig};
 use crate::ipc;
 use crate::transport::WorldTransport;
@@ -38,6 +39,8 @@ pub struct ZenohWorld {
     /// Chunks received, by robot, not read yet.
     queues: RefCell<Vec<VecDeque<Vec<u8>>>>,
     presence: RefCell<Vec<Presence>>,
+    /// Messages not answered yet, put again until they are.
+    outstanding: RefCell<Outstanding>,
     out_prefix: String,
     alive_prefix: String,
     /// Dropped last (fields drop in order).
@@ -80,6 +83,7 @@ impl ZenohWorld {
             _token: token,
             queues: RefCell::new(vec![VecDeque::new(); robots]),
             presence: RefCell::new(vec![Presence::Unseen; robots]),
+            outstanding: RefCell::new(Outstanding::new(robots)),
             out_prefix: format!("{root}/out/"),
             alive_prefix: format!("{root}/alive/"),
             _session: session,
@@ -92,11 +96,33 @@ impl ZenohWorld {
         (r < self.inboxes.len()).then_some(r)
     }
 
-    /// Files an answer's chunk under its robot; returns the robot.
+    /// Files an answer's chunk under its robot; returns the robot. A
+    /// repeat of an answer already heard is dropped here.
     fn file(&self, s: &Sample) -> Option<usize> {
         let r = self.robot_of(s.key_expr().as_str(), &self.out_prefix)?;
-        self.queues.borrow_mut()[r].push_back(s.payload().to_bytes().into_owned());
+        let chunk = s.payload().to_bytes();
+        // A chunk too short for a header goes on: the assembler says why.
+        if super::retry::seq_of(&chunk).is_some_and(|seq| !self.outstanding.borrow_mut().heard(r, seq)) {
+            return None;
+        }
+        self.queues.borrow_mut()[r].push_back(chunk.into_owned());
         Some(r)
+    }
+
+    /// Puts again every message whose answer is overdue, to robots whose
+    /// token is there. A put that fails is left to the next repeat: the
+    /// robot's silence is the world's business, not the transport's.
+    fn repeat_overdue(&self) {
+        self.follow_tokens();
+        let presence = self.presence.borrow();
+        self.outstanding.borrow_mut().repeat_due(Instant::now(), |r, c| {
+            presence[r] != Presence::Gone && self.inboxes[r].put(c.to_vec()).wait().is_ok()
+        });
+    }
+
+    /// How many messages were put again for want of an answer.
+    pub fn repeats(&self) -> u64 {
+        self.outstanding.borrow().repeats
     }
 
     /// Reads every token change that came.
@@ -115,9 +141,9 @@ impl ZenohWorld {
 
 impl WorldTransport for ZenohWorld {
     fn post(&self, r: usize, seq: u64, bytes: &[u8]) -> Result<(), String> {
-        let inbox = &self.inboxes[r];
-        one_chunk(seq, bytes, ipc::INBOX_CHUNKS, |c| inbox.put(c).wait().map_err(err("cannot publish")))
-            .map_err(|e| format!("robot {r}'s inbox: {e}"))
+        let chunk = one_chunk(seq, bytes, ipc::INBOX_CHUNKS).map_err(|e| format!("robot {r}'s inbox: {e}"))?;
+        self.outstanding.borrow_mut().posted(r, seq, &chunk, Instant::now());
+        self.inboxes[r].put(chunk).wait().map_err(err("cannot publish")).map_err(|e| format!("robot {r}'s inbox: {e}"))
     }
 
     /// The message itself wakes the robot; only a token gone says nobody
@@ -128,6 +154,7 @@ impl WorldTransport for ZenohWorld {
     }
 
     fn wait(&self, timeout: Duration, woke: &mut Vec<usize>) {
+        self.repeat_overdue();
         if let Ok(Some(s)) = self.answers.recv_timeout(timeout) {
             woke.extend(self.file(&s));
         }

@@ -115,7 +115,8 @@ pub fn extra(prefix: &str, opts: &RunOptions, plan: &Plan, report: &RunReport, f
         "agent_peak_rss_kib": { "p50": percentile(&rss, 50.0), "max": percentile(&rss, 100.0) },
         "agents_killed_at_end": killed_at_end,
         "world_cpu_ms_per_round": report.world_cpu_ms / f64::from(r.rounds.max(1)),
-        "agent_cpu_ms_total": report.agent_cpu_ms.iter().sum::<f64>(),
+        // Agents on other hosts (`--remote-agents`) are not measured: unknown, not 0.
+        "agent_cpu_ms_total": (!report.agent_cpu_ms.is_empty()).then(|| report.agent_cpu_ms.iter().sum::<f64>()),
         "messages_per_robot_round": per_robot_round(r.protocol.frames, r),
         "wakeups_per_robot_round": per_robot_round(r.protocol.wakes, r),
         "died": report.died,
