@@ -306,18 +306,30 @@ impl Repulsion {
     /// once and given to both robots with opposite signs (exactly: the
     /// vector negates, its length is the same), and each robot's sum runs
     /// over the others in ascending order, as one robot's sum alone would.
+    #[cfg(test)]
     fn fields(&self, pos: &[Point], fields: &mut Vec<Vector>) {
+        self.fields_and_near(pos, fields, -1.0, &mut Vec::new());
+    }
+
+    /// [`Self::fields`], and in the same pass over the pairs the pairs
+    /// `(i, j, pair index)` at most `sqrt(near2)` apart, ascending: the
+    /// referee's candidates, so that it need not go over every pair again.
+    fn fields_and_near(&self, pos: &[Point], fields: &mut Vec<Vector>, near2: f64, near: &mut Vec<(u32, u32, u32)>) {
         fields.clear();
         fields.resize(pos.len(), Vector::zeros());
-        if self.k == 0.0 || self.range <= 0.0 {
-            return;
-        }
+        near.clear();
+        let repel = self.k != 0.0 && self.range > 0.0;
         let (r2, inv_r) = (self.range * self.range, 1.0 / self.range);
+        let mut pair = 0u32;
         for i in 0..pos.len() {
             for j in i + 1..pos.len() {
                 let v = pos[i] - pos[j];
                 let d2 = v.norm_squared();
-                if d2 < r2 && d2 > 1e-18 {
+                if d2 <= near2 {
+                    near.push((i as u32, j as u32, pair));
+                }
+                pair += 1;
+                if repel && d2 < r2 && d2 > 1e-18 {
                     let d = d2.sqrt();
                     let push = v * (self.k * (1.0 / d - inv_r) / (d2 * d));
                     fields[i] += push;
@@ -347,6 +359,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
     let mut pos: Vec<Point> = starts.iter().map(|&v| world.grid.position(v)).collect();
     let mut next = pos.clone();
     let mut pushes = Vec::with_capacity(n);
+    let mut near = Vec::new();
     let mut robots: Vec<Robot> = (0..n).map(|k| Robot::new(rng::robot_rng(cfg.seed, k as u16))).collect();
 
     // Found targets are broadcast, so one shared list of those still missing.
@@ -399,7 +412,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
         let mut rotated = false;
         for (i, r) in robots.iter_mut().enumerate() {
             if r.rem <= 0.0 {
-                new_flight(r, lw.sensing.sense(pos[i], prm.r_so, lfp.k_obstacle).0, &levy, lfp, a);
+                new_flight(r, lw.sensing.sense(pos[i], prm.r_so, lfp.k_obstacle, 0.0).0, &levy, lfp, a);
                 rotated = true;
             }
             r.step = r.rem.min(a) / micro as f64;
@@ -409,14 +422,15 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
 
         let mut round_collisions = 0u32;
         for _ in 0..micro {
-            repel.fields(&pos, &mut pushes);
+            repel.fields_and_near(&pos, &mut pushes, far2, &mut near);
             for (i, r) in robots.iter_mut().enumerate() {
                 let p = pos[i];
                 if !r.moving {
                     next[i] = p;
                     continue;
                 }
-                let (mut field, nearest) = lw.sensing.sense(p, prm.r_so, lfp.k_obstacle);
+                let clear_beyond = prm.r_safe + r.step;
+                let (mut field, nearest) = lw.sensing.sense(p, prm.r_so, lfp.k_obstacle, clear_beyond);
                 field += pushes[i];
                 let bent = r.heading + field;
                 let len = bent.norm();
@@ -431,7 +445,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
                     r.repelled = true;
                 }
                 // No feature nearer than r_safe + step can be reached this micro-step.
-                let t = if nearest >= prm.r_safe + r.step { 1.0 } else { lw.sensing.clear_fraction(p, dir * r.step) };
+                let t = if nearest >= clear_beyond { 1.0 } else { lw.sensing.clear_fraction(p, dir * r.step) };
                 next[i] = p + dir * (r.step * t);
                 if t < 1.0 {
                     r.rem = 0.0;
@@ -442,17 +456,11 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
             }
             // Each pair counts at most once per round, however many of the
             // round's micro-steps it spends too close.
-            let mut pair = 0;
-            for i in 0..n {
-                for j in i + 1..n {
-                    if stamp[pair] != rounds
-                        && (pos[i] - pos[j]).norm_squared() <= far2
-                        && swept_min_distance(pos[i], next[i], pos[j], next[j]) < collide
-                    {
-                        stamp[pair] = rounds;
-                        round_collisions += 1;
-                    }
-                    pair += 1;
+            for &(i, j, pair) in &near {
+                let (i, j, pair) = (i as usize, j as usize, pair as usize);
+                if stamp[pair] != rounds && swept_min_distance(pos[i], next[i], pos[j], next[j]) < collide {
+                    stamp[pair] = rounds;
+                    round_collisions += 1;
                 }
             }
             std::mem::swap(&mut pos, &mut next);

@@ -35,8 +35,10 @@ impl Feature {
     }
 
     /// Distance from `p` and the unit vector pointing from the feature to `p`
-    /// (zero when `p` lies on the feature).
-    fn away(&self, p: Point) -> (f64, Vector) {
+    /// (zero when `p` lies on the feature); `None` when the squared distance
+    /// exceeds `beyond2`, before the square root and divisions that most
+    /// listed features would not need.
+    fn away(&self, p: Point, beyond2: f64) -> Option<(f64, Vector)> {
         let closest = match *self {
             Feature::Edge(a, b) => {
                 let ab = b - a;
@@ -48,17 +50,22 @@ impl Feature {
                 let v = p - c;
                 let n = v.norm();
                 if n == 0.0 {
-                    return (0.0, Vector::zeros());
+                    return Some((0.0, Vector::zeros()));
                 }
                 c + v * (r / n)
             }
         };
         let v = p - closest;
-        let d = v.norm();
+        // `norm` is the square root of `norm_squared`: the same `d` as before.
+        let d2 = v.norm_squared();
+        if d2 > beyond2 {
+            return None;
+        }
+        let d = d2.sqrt();
         if d == 0.0 {
-            (0.0, Vector::zeros())
+            Some((0.0, Vector::zeros()))
         } else {
-            (d, v / d)
+            Some((d, v / d))
         }
     }
 }
@@ -146,14 +153,20 @@ impl Sensing {
 
     /// The sum of the obstacle and boundary repulsions sensed at `p`, and
     /// the distance to the nearest feature listed for `p`'s cell (infinite
-    /// when none is). Each feature within `r_so` pushes with Khatib's
-    /// magnitude `gain * (1/d - 1/r_so) / d^2`, away from its nearest point.
-    pub(super) fn sense(&self, p: Point, r_so: f64, gain: f64) -> (Vector, f64) {
+    /// when none is) if it is within `care`: a caller comparing it with a
+    /// threshold up to `care` gets the same answer. Each feature within
+    /// `r_so` pushes with Khatib's magnitude `gain * (1/d - 1/r_so) / d^2`,
+    /// away from its nearest point.
+    pub(super) fn sense(&self, p: Point, r_so: f64, gain: f64, care: f64) -> (Vector, f64) {
         let mut f = Vector::zeros();
         let mut nearest = f64::INFINITY;
         let inv_r = 1.0 / r_so;
+        // A feature further than both neither pushes nor decides a
+        // comparison; the margin keeps rounding of the square on the safe side.
+        let beyond = r_so.max(care).max(0.0) * (1.0 + 1e-9);
+        let beyond2 = beyond * beyond;
         for &k in self.cell_items(p) {
-            let (d, dir) = self.features[k as usize].away(p);
+            let Some((d, dir)) = self.features[k as usize].away(p, beyond2) else { continue };
             nearest = nearest.min(d);
             if d > 1e-9 && d < r_so && gain != 0.0 {
                 f += dir * (gain * (1.0 / d - inv_r) / (d * d));

@@ -366,3 +366,58 @@ fn robots_repel_within_sonar_range_by_default() {
     let b = run(&w, &starts, &quiet(4), &LfpParams { repel_range: RepelRange::Radio, ..LfpParams::default() });
     assert_ne!(a.search_time_s, b.search_time_s);
 }
+
+#[test]
+fn sensing_skips_only_features_that_cannot_matter() {
+    let world = paper_like();
+    let p = world.params.clone();
+    let s = Sensing::new(&world);
+    let mut compared = 0;
+    for yi in 0..124 {
+        for xi in 0..155 {
+            let at = Point::new(0.13 * xi as f64, 0.13 * yi as f64);
+            let (f_all, n_all) = s.sense(at, p.r_so, 1.0, f64::INFINITY);
+            for care in [0.0, p.r_safe + p.a / 8.0, p.r_safe + p.a] {
+                let (f, n) = s.sense(at, p.r_so, 1.0, care);
+                assert_eq!(f, f_all, "the same push at {at:?}, bit for bit");
+                for t in [care, care / 2.0, p.r_safe] {
+                    if t <= care {
+                        assert_eq!(n >= t, n_all >= t, "the same clearance answer at {at:?} for {t}");
+                        compared += (n_all < t) as u32;
+                    }
+                }
+            }
+        }
+    }
+    assert!(compared > 100, "points near features were tested: {compared}");
+}
+
+#[test]
+fn one_pass_over_pairs_finds_every_near_pair() {
+    let p = Params::default();
+    let mut rng = rng::robot_rng(7, 0);
+    let pos: Vec<Point> = (0..13).map(|_| Point::new(rng.random::<f64>() * 5.0, rng.random::<f64>() * 4.0)).collect();
+    let repel = Repulsion { range: RepelRange::Sonar.range(&p), k: 1.0 };
+    let near2 = 1.2f64.powi(2);
+    let (mut fields, mut near) = (Vec::new(), Vec::new());
+    repel.fields_and_near(&pos, &mut fields, near2, &mut near);
+    let mut expected = Vec::new();
+    let mut pair = 0;
+    for i in 0..pos.len() {
+        for j in i + 1..pos.len() {
+            if (pos[i] - pos[j]).norm_squared() <= near2 {
+                expected.push((i as u32, j as u32, pair));
+            }
+            pair += 1;
+        }
+    }
+    assert!(!expected.is_empty() && expected.len() < 78, "some pairs near, not all: {}", expected.len());
+    assert_eq!(near, expected);
+    let mut alone = Vec::new();
+    repel.fields(&pos, &mut alone);
+    assert_eq!(fields, alone, "the pushes do not depend on the pairs asked for");
+    // No repulsion still lists the pairs.
+    Repulsion { range: 0.0, k: 0.0 }.fields_and_near(&pos, &mut fields, near2, &mut near);
+    assert_eq!(near, expected);
+    assert!(fields.iter().all(|f| *f == Vector::zeros()));
+}

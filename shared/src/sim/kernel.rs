@@ -142,6 +142,9 @@ pub struct Kernel<'w, P> {
     unheard: Vec<Delivery<P>>,
     /// `GRIDSWARM_TRACE` set: every wake-up, motor command, fault and slot on stderr.
     trace: bool,
+    /// Buffers of every slot's start and close, kept so that a slot does not allocate them.
+    points: Vec<Point>,
+    before_next: (Vec<VertexId>, Vec<VertexId>),
 }
 
 impl<'w, P: Clone> Kernel<'w, P> {
@@ -200,6 +203,8 @@ impl<'w, P: Clone> Kernel<'w, P> {
             waiters: Vec::new(),
             unheard: Vec::new(),
             trace: std::env::var_os("GRIDSWARM_TRACE").is_some(),
+            points: Vec::with_capacity(n),
+            before_next: (Vec::with_capacity(n), Vec::with_capacity(n)),
         };
         k.record_poses();
         k.push(0, Ev::SlotStart);
@@ -386,8 +391,11 @@ impl<'w, P: Clone> Kernel<'w, P> {
         self.close_scheduled = false;
         self.last_motor = self.now;
         let grid = &self.world.grid;
-        let positions: Vec<Point> = self.referee.positions().iter().map(|&v| grid.position(v)).collect();
+        let mut positions = std::mem::take(&mut self.points);
+        positions.clear();
+        positions.extend(self.referee.positions().iter().map(|&v| grid.position(v)));
         self.medium.relink(&positions);
+        self.points = positions;
         self.links.iter_mut().for_each(|l| *l = None);
         for r in 0..self.bots.len() {
             let b = &mut self.bots[r];
@@ -630,8 +638,11 @@ impl<'w, P: Clone> Kernel<'w, P> {
         }
         // The slot lasts until it closes, whoever gave the last command.
         self.last_motor = self.last_motor.max(self.now);
-        let before: Vec<VertexId> = self.referee.positions().to_vec();
-        let next: Vec<VertexId> = self.bots.iter().zip(&before).map(|(b, &p)| b.motor.unwrap_or(p)).collect();
+        let (mut before, mut next) = std::mem::take(&mut self.before_next);
+        before.clear();
+        before.extend_from_slice(self.referee.positions());
+        next.clear();
+        next.extend(self.bots.iter().zip(&before).map(|(b, &p)| b.motor.unwrap_or(p)));
         let report = self.referee.execute(&next);
         let moved = next.iter().zip(&before).filter(|(a, b)| a != b).count() as u64;
         self.stats.moves += moved - report.refused as u64;
@@ -667,6 +678,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 report.collisions
             );
         }
+        self.before_next = (before, next);
         self.round_end_times.push(seconds(end));
         self.round_collisions.push(report.collisions);
         let mut searching = 0;
