@@ -112,7 +112,7 @@ impl Budgeted {
     pub fn note(&self, max_rounds: u32) -> String {
         format!(
             "note: stopped at the round limit {max_rounds} set by the work budget MAX_SEARCH_WORK = {:e} \
-             ({:.3e} a round: robots x (1 + robots heard) x frame vertices); \
+             ({:.3e} a round: the maps and frames of every robot in range); \
              ask for more with --max-rounds N (default {})\n",
             limits::MAX_SEARCH_WORK,
             self.round_work,

@@ -85,14 +85,20 @@ pub const MAX_MICRO_STEPS: u32 = 1000;
 /// `experiment`), and the most the work budget grants `simulate`.
 pub const DEFAULT_MAX_ROUNDS: u32 = 100_000;
 /// Search work a scenario may ask of one `simulate` without `--max-rounds`,
-/// in map passes: every round each robot copies its map and merges the map
-/// of every robot it hears, each a pass over the frame's tiles, so a round
-/// costs robots x (1 + robots heard) x frame vertices. Measured at 2.8e-11
-/// s of CPU a unit (10,000 robots on a 180 x 180 m map: 0.37 s a round;
-/// 3 robots on 400 x 400 m: 17 us), this is about 1.4 s of rounds: the
-/// default round limit is lowered to fit it ([`round_limit`]), and only the
-/// command line (`--max-rounds N`) may ask for more.
-pub const MAX_SEARCH_WORK: f64 = 5e10;
+/// in map passes ([`round_work`]): every round each robot copies its map
+/// and merges the map of every robot it hears, each a pass over the
+/// frame's tiles, and answers each of them. Measured at about 2.8e-11 s of
+/// CPU a unit (10,000 robots on a 180 x 180 m map: 0.37 s a round; 3
+/// robots on 400 x 400 m: 17 us; 500 robots that all hear each other on
+/// 100 x 100 m: 2.2 s), this is a second or two of rounds: the default
+/// round limit is lowered to fit it ([`round_limit`]), and only the command
+/// line (`--max-rounds N`) may ask for more.
+pub const MAX_SEARCH_WORK: f64 = 1e11;
+/// What a pair of robots in range costs a round beyond the map passes, per
+/// robot heard, in [`MAX_SEARCH_WORK`]'s units: every frame is looked up
+/// among those already heard, so a robot that hears `k` others pays about
+/// `k^2` (500 robots in one radio range took 2.2 s a round).
+pub const HEARD_PAIR_WORK: f64 = 400.0;
 
 /// Grid side of the coverage raster, in `a` (assumptions.rs, `coverage`).
 const RASTER_SIDES: f64 = 0.1;
@@ -218,9 +224,13 @@ pub fn hearable(robots: usize, r_c: f64, a: f64, kind: LatticeKind) -> f64 {
     disc.min(robots.saturating_sub(1) as f64)
 }
 
-/// What one round of `robots` robots costs in [`MAX_SEARCH_WORK`]'s units.
+/// What one round of `robots` robots, each hearing at most `hearable`
+/// others, costs in [`MAX_SEARCH_WORK`]'s units: robots x (1 + heard) x
+/// frame vertices for the maps, robots x heard^2 x [`HEARD_PAIR_WORK`]
+/// for the frames.
 pub fn round_work(robots: usize, frame_vertices: f64, hearable: f64) -> f64 {
-    robots as f64 * (1.0 + hearable) * frame_vertices.max(1.0)
+    let maps = (1.0 + hearable) * frame_vertices.max(1.0);
+    robots as f64 * (maps + hearable * hearable * HEARD_PAIR_WORK)
 }
 
 /// The round limit of a run nobody gave one: [`DEFAULT_MAX_ROUNDS`], or
@@ -322,6 +332,13 @@ mod tests {
         let team = Extent { width: 182.0, height: 182.0, ..paper };
         let many = rounds(10_000, &team);
         assert!((1..10).contains(&many), "{many}");
+        // Everyone in one radio range: the frames, not the maps, cost.
+        let field = Extent { width: 100.0, height: 100.0, ..paper };
+        let one_range =
+            |robots| round_limit(round_work(robots, field.frame_vertices(), hearable(robots, 300.0, 1.0, field.kind)));
+        // 100 robots: 0.035 s a round, measured.
+        assert!(one_range(100) < 300, "{}", one_range(100));
+        assert_eq!(one_range(500), 1);
         // A robot hears at most those within r_c, and never more than the others.
         assert_eq!(hearable(1, r_c, 1.0, LatticeKind::Triangular), 0.0);
         let disc = hearable(10_000, r_c, 1.0, LatticeKind::Triangular);
