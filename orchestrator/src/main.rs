@@ -63,9 +63,10 @@ enum Command {
         /// Print exactly one JSON object instead of the summary.
         #[arg(long)]
         json: bool,
-        /// A run not stopped after this many rounds ends incomplete.
-        #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
-        max_rounds: u32,
+        /// A run not stopped after this many rounds ends incomplete [default: 100000, fewer on
+        /// big maps and teams: the work budget MAX_SEARCH_WORK, docs/scenario-format.md "Limits"].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        max_rounds: Option<u32>,
         #[command(flatten)]
         faults: FaultFlags,
     },
@@ -297,8 +298,9 @@ const EXIT_STATUS: &str = "Exit status:
   1  error: bad scenario or value, unwritable output, a failed child process, too low an open-file
      limit, interrupted by SIGINT, SIGTERM, SIGHUP or SIGQUIT
   2  usage error: unknown flag or algorithm, a value out of range
-  3  the search ended incomplete (simulate, run: every robot failed, cut off, or --max-rounds
-     reached; its outputs are written), or `check` found a failing assumption";
+  3  the search ended incomplete (simulate, run: every robot failed, cut off, or the round limit
+     reached, --max-rounds or simulate's work budget; its outputs are written), or `check` found a
+     failing assumption";
 
 /// Writes to stdout without `print!`'s panic on a closed pipe
 /// (`gridswarm experiment | head` must not end in a panic).

@@ -49,7 +49,7 @@ fn simulate_here(args: &[String]) -> Result<String, String> {
         situation: None,
         out: None,
         json: true,
-        max_rounds: 100_000,
+        max_rounds: None,
         faults: FaultPlan::default(),
     };
     let mut it = args.iter();

@@ -435,15 +435,7 @@ fn coverage(w: &World, va: &[bool]) -> Check {
             }
         }
     }
-    let boxes: Vec<(Point, Point)> = w.obstacles.iter().map(|o| o.bounding_box()).collect();
-    let in_ad = |p: Point| {
-        w.area.contains(p)
-            && !w
-                .obstacles
-                .iter()
-                .zip(&boxes)
-                .any(|(o, (l, u))| p.x >= l.x && p.x <= u.x && p.y >= l.y && p.y <= u.y && o.contains(p))
-    };
+    let in_ad = w.in_ad_near();
     let mut missed = 0usize;
     let mut first: Option<Point> = None;
     for y in 0..ny {

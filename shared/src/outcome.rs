@@ -32,7 +32,7 @@ impl RunConfig {
             policy,
             seed,
             situation,
-            max_rounds: 100_000,
+            max_rounds: crate::scenario::limits::DEFAULT_MAX_ROUNDS,
             measure_coverage: true,
             record_trajectories: true,
             radio: Radio::default(),

@@ -215,14 +215,24 @@ impl World {
         self.raster(crate::engine::RASTER_CELL * self.params.a).detected_fraction(centres, self.params.r_st)
     }
 
+    /// [`World::in_ad`] for many points of the area's bounding box: each is
+    /// tested against the area edges and obstacles near it only, the same
+    /// answers as testing them all (the coverage check tested every
+    /// obstacle's box for each raster cell left unstamped: 2.5 s of a
+    /// 400 m map's 5 s `simulate`).
+    pub fn in_ad_near(&self) -> impl Fn(Point) -> bool + '_ {
+        let (lo, hi) = self.area.bounding_box();
+        let near = Near::new(&self.area, &self.obstacles, &[], &self.params, lo, hi);
+        move |p: Point| near.inside(p) && !near.obstacles(p, p).any(|k| self.obstacles[k].contains(p))
+    }
+
     /// A raster of `Ad` with cells of side `h`, for the detected fraction.
     /// Each cell is tested against the area edges and obstacles near it
     /// only (the same cells as [`World::in_ad`]; a 180 m map with a
     /// thousand obstacles took 24 s testing them all).
     pub fn raster(&self, h: f64) -> Raster {
         let (lo, hi) = self.area.bounding_box();
-        let near = Near::new(&self.area, &self.obstacles, &[], &self.params, lo, hi);
-        let in_ad = |p: Point| near.inside(p) && !near.obstacles(p, p).any(|k| self.obstacles[k].contains(p));
+        let in_ad = self.in_ad_near();
         let nx = ((hi.x - lo.x) / h).ceil().max(1.0) as usize;
         let ny = ((hi.y - lo.y) / h).ceil().max(1.0) as usize;
         let mut inside = vec![false; nx * ny];

@@ -196,6 +196,7 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         ("MAX_LFP_GAIN", limits::MAX_LFP_GAIN),
         ("MAX_FLIGHT_SIDES", limits::MAX_FLIGHT_SIDES),
         ("MAX_TURN_SIGMA", limits::MAX_TURN_SIGMA),
+        ("MAX_SEARCH_WORK", limits::MAX_SEARCH_WORK),
     ];
     let counts = [
         ("MAX_CORNERS", limits::MAX_CORNERS),

@@ -8,6 +8,8 @@ use std::path::PathBuf;
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
+use gridswarm::scenario::limits;
+use gridswarm::world::World;
 use serde_json::json;
 
 use crate::contract::{self, Runner};
@@ -28,7 +30,9 @@ pub struct SimulateOptions {
     pub situation: Option<Situation>,
     pub out: Option<PathBuf>,
     pub json: bool,
-    pub max_rounds: u32,
+    /// The round limit; `None` derives it from the work budget
+    /// ([`round_limit`]).
+    pub max_rounds: Option<u32>,
     /// Faults and radio impairments (grid policies only).
     pub faults: FaultPlan,
 }
@@ -60,13 +64,14 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
         eprintln!("{w}");
     }
     let lfp = contract::lfp_params(&scenario);
-    cfg.max_rounds = opts.max_rounds;
+    let (max_rounds, budget) = round_limit(opts.max_rounds, &world, robots);
+    cfg.max_rounds = max_rounds;
     cfg.record_trajectories = opts.out.is_some();
     cfg.measure_coverage = true;
     let result = Runner::new(&world, lfp).run(&starts, &cfg);
     let extra = json!({
         "engine": "in-process",
-        "max_rounds": opts.max_rounds,
+        "max_rounds": max_rounds,
         "radio": cfg.radio,
         "retries": world.params.retries,
         "faults": gridswarm::sim::schedule::to_args(&cfg.faults),
@@ -78,12 +83,53 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
         None => Vec::new(),
     };
 
+    // Said even with --json (on stderr there), so a cut run is never a
+    // silent mystery.
+    let note = budget.filter(|_| result.protocol.ended_by == "max_rounds").map(|b| b.note(max_rounds));
     if opts.json {
+        if let Some(n) = &note {
+            eprint!("{n}");
+        }
         return Ok((format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")), result.complete));
     }
     let mut text = output::headline(&scenario, &result, "", "");
+    text += note.as_deref().unwrap_or("");
     for p in written {
         text += &format!("wrote {}\n", p.display());
     }
     Ok((text, result.complete))
+}
+
+/// A round limit the work budget lowered: what it was lowered from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budgeted {
+    /// One round's work, in [`limits::MAX_SEARCH_WORK`]'s units.
+    pub round_work: f64,
+}
+
+impl Budgeted {
+    /// The line that says why the run stopped where it did and how to go on.
+    pub fn note(&self, max_rounds: u32) -> String {
+        format!(
+            "note: stopped at the round limit {max_rounds} set by the work budget MAX_SEARCH_WORK = {:e} \
+             ({:.3e} a round: the maps and frames of every robot in range); \
+             ask for more with --max-rounds N (default {})\n",
+            limits::MAX_SEARCH_WORK,
+            self.round_work,
+            limits::DEFAULT_MAX_ROUNDS
+        )
+    }
+}
+
+/// The run's round limit: the command line's, else the default lowered to
+/// fit the work budget, with what lowered it (`None` when nothing did).
+pub fn round_limit(given: Option<u32>, world: &World, robots: usize) -> (u32, Option<Budgeted>) {
+    if let Some(n) = given {
+        return (n, None);
+    }
+    let p = &world.params;
+    let heard = limits::hearable(robots, p.r_c, p.a, world.grid.lattice.kind);
+    let round_work = limits::round_work(robots, world.grid.len() as f64, heard);
+    let n = limits::round_limit(round_work);
+    (n, (n < limits::DEFAULT_MAX_ROUNDS).then_some(Budgeted { round_work }))
 }

@@ -39,7 +39,7 @@ pub const DEFAULT_ROBOTS: &str = "1-13";
 pub const DEFAULT_RUNS: u32 = 500;
 pub const DEFAULT_OUT: &str = "experiment-out";
 /// A run not stopped after this many rounds ends incomplete.
-pub const DEFAULT_MAX_ROUNDS: u32 = 100_000;
+pub const DEFAULT_MAX_ROUNDS: u32 = gridswarm::scenario::limits::DEFAULT_MAX_ROUNDS;
 
 #[derive(Clone, Debug)]
 pub struct ExperimentOptions {

@@ -81,6 +81,25 @@ pub const MAX_TURN_SIGMA: f64 = 100.0;
 /// LFP micro-steps per sub-step: every one is a pass over all robots.
 pub const MAX_MICRO_STEPS: u32 = 1000;
 
+/// Rounds a run lasts at most when nobody says otherwise (`RunConfig::new`,
+/// `experiment`), and the most the work budget grants `simulate`.
+pub const DEFAULT_MAX_ROUNDS: u32 = 100_000;
+/// Search work a scenario may ask of one `simulate` without `--max-rounds`,
+/// in map passes ([`round_work`]): every round each robot copies its map
+/// and merges the map of every robot it hears, each a pass over the
+/// frame's tiles, and answers each of them. Measured at about 2.8e-11 s of
+/// CPU a unit (10,000 robots on a 180 x 180 m map: 0.37 s a round; 3
+/// robots on 400 x 400 m: 17 us; 500 robots that all hear each other on
+/// 100 x 100 m: 2.2 s), this is a second or two of rounds: the default
+/// round limit is lowered to fit it ([`round_limit`]), and only the command
+/// line (`--max-rounds N`) may ask for more.
+pub const MAX_SEARCH_WORK: f64 = 1e11;
+/// What a pair of robots in range costs a round beyond the map passes, per
+/// robot heard, in [`MAX_SEARCH_WORK`]'s units: every frame is looked up
+/// among those already heard, so a robot that hears `k` others pays about
+/// `k^2` (500 robots in one radio range took 2.2 s a round).
+pub const HEARD_PAIR_WORK: f64 = 400.0;
+
 /// Grid side of the coverage raster, in `a` (assumptions.rs, `coverage`).
 const RASTER_SIDES: f64 = 0.1;
 
@@ -192,6 +211,40 @@ pub fn check_robots(robots: usize, frame_vertices: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// The most robots one robot can hear: every robot on a lattice vertex
+/// within `r_c` (an upper bound: the disc grown by a side, over the area a
+/// vertex stands for), and never more than the others.
+pub fn hearable(robots: usize, r_c: f64, a: f64, kind: LatticeKind) -> f64 {
+    let per_vertex = match kind {
+        LatticeKind::Square => a * a,
+        LatticeKind::Triangular => a * a * 3f64.sqrt() / 2.0,
+        LatticeKind::Hexagonal => a * a * 3.0 * 3f64.sqrt() / 4.0,
+    };
+    let disc = std::f64::consts::PI * (r_c.max(0.0) + a).powi(2) / per_vertex;
+    disc.min(robots.saturating_sub(1) as f64)
+}
+
+/// What one round of `robots` robots, each hearing at most `hearable`
+/// others, costs in [`MAX_SEARCH_WORK`]'s units: robots x (1 + heard) x
+/// frame vertices for the maps, robots x heard^2 x [`HEARD_PAIR_WORK`]
+/// for the frames.
+pub fn round_work(robots: usize, frame_vertices: f64, hearable: f64) -> f64 {
+    let maps = (1.0 + hearable) * frame_vertices.max(1.0);
+    robots as f64 * (maps + hearable * hearable * HEARD_PAIR_WORK)
+}
+
+/// The round limit of a run nobody gave one: [`DEFAULT_MAX_ROUNDS`], or
+/// fewer if that many rounds of `round_work` would pass
+/// [`MAX_SEARCH_WORK`]; at least one round.
+pub fn round_limit(round_work: f64) -> u32 {
+    let fits = (MAX_SEARCH_WORK / round_work.max(1.0)).floor();
+    if fits >= DEFAULT_MAX_ROUNDS as f64 {
+        DEFAULT_MAX_ROUNDS
+    } else {
+        (fits as u32).max(1)
+    }
+}
+
 /// Builds the error of a broken limit for `file`.
 pub(crate) fn error(file: &str, field: &str, message: String) -> ScenarioError {
     ScenarioError::new(file, None, field, message)
@@ -261,5 +314,35 @@ mod tests {
         check_robots(10_000, 40_000.0).unwrap();
         assert!(check_robots(5000, e.frame_vertices()).unwrap_err().contains("MAX_ROBOT_VERTICES"));
         assert!(check_robots(MAX_ROBOTS + 1, 10.0).unwrap_err().contains("MAX_ROBOTS = 65535"));
+    }
+
+    #[test]
+    fn the_work_budget_spares_the_paper_and_cuts_big_maps_and_teams() {
+        let paper = Extent { width: 20.0, height: 16.0, a: 1.0, kind: LatticeKind::Triangular };
+        let r_c = 2.1;
+        let rounds = |robots: usize, e: &Extent| {
+            round_limit(round_work(robots, e.frame_vertices(), hearable(robots, r_c, e.a, e.kind)))
+        };
+        // Fig. 7's counts on the paper map keep the whole default.
+        assert_eq!(rounds(13, &paper), DEFAULT_MAX_ROUNDS);
+        let big = Extent { width: 402.0, height: 402.0, ..paper };
+        assert_eq!(rounds(1, &big), DEFAULT_MAX_ROUNDS);
+        let three = rounds(3, &big);
+        assert!(three < DEFAULT_MAX_ROUNDS && three > 10_000, "{three}");
+        let team = Extent { width: 182.0, height: 182.0, ..paper };
+        let many = rounds(10_000, &team);
+        assert!((1..10).contains(&many), "{many}");
+        // Everyone in one radio range: the frames, not the maps, cost.
+        let field = Extent { width: 100.0, height: 100.0, ..paper };
+        let one_range =
+            |robots| round_limit(round_work(robots, field.frame_vertices(), hearable(robots, 300.0, 1.0, field.kind)));
+        // 100 robots: 0.035 s a round, measured.
+        assert!(one_range(100) < 300, "{}", one_range(100));
+        assert_eq!(one_range(500), 1);
+        // A robot hears at most those within r_c, and never more than the others.
+        assert_eq!(hearable(1, r_c, 1.0, LatticeKind::Triangular), 0.0);
+        let disc = hearable(10_000, r_c, 1.0, LatticeKind::Triangular);
+        assert!(disc >= 18.0 && disc < 40.0, "{disc}");
+        assert_eq!(round_limit(f64::INFINITY), 1);
     }
 }

@@ -1,0 +1,70 @@
+//! The work budget of `simulate` (issue 11 item 1): without `--max-rounds`,
+//! a big map or a big team gets a round limit lowered to fit
+//! `MAX_SEARCH_WORK`, ends incomplete at it with exit status 3 and says
+//! which limit stopped it and how to raise it; `--max-rounds` goes past it.
+//! The rounds reached are asserted, not the wall time.
+
+use std::process::Output;
+
+use gridswarm::scenario::limits::{DEFAULT_MAX_ROUNDS, MAX_SEARCH_WORK};
+
+mod common;
+use common::{gridswarm, text};
+
+/// The JSON summary of a run that ended incomplete (exit status 3).
+fn incomplete(o: &Output) -> serde_json::Value {
+    assert_eq!(o.status.code(), Some(3), "stdout:\n{}\nstderr:\n{}", text(&o.stdout), text(&o.stderr));
+    serde_json::from_slice(&o.stdout).expect("one JSON object")
+}
+
+/// A run cut by the budget: its own limit, below the default, reached.
+fn assert_cut_by_budget(o: &Output) -> u64 {
+    let s = incomplete(o);
+    let limit = s["max_rounds"].as_u64().expect("max_rounds");
+    assert!(limit >= 1 && limit < DEFAULT_MAX_ROUNDS as u64, "{s}");
+    assert_eq!(s["rounds"].as_u64(), Some(limit), "{s}");
+    assert_eq!(s["ended_by"], "max_rounds", "{s}");
+    let err = text(&o.stderr);
+    let note = format!("note: stopped at the round limit {limit} set by the work budget MAX_SEARCH_WORK = {MAX_SEARCH_WORK:e}");
+    assert!(err.contains(&note), "{err}");
+    assert!(err.contains("--max-rounds N"), "{err}");
+    limit
+}
+
+#[test]
+fn three_robots_on_the_biggest_random_map_stop_at_the_budget() {
+    // On main this ran the whole 100,000 rounds.
+    let o = gridswarm(&["simulate", "--scenario", "random:1,size=400x400", "--robots", "3", "--json"]);
+    let limit = assert_cut_by_budget(&o);
+    assert!(limit > 10_000, "a sparse team keeps a useful search: {limit}");
+}
+
+#[test]
+fn ten_thousand_robots_stop_at_the_budget_after_a_few_rounds() {
+    // 0.4 s of CPU a round on main, for 100,000 rounds.
+    let o = gridswarm(&["simulate", "--scenario", "random:1,size=180x180", "--robots", "10000", "--json"]);
+    let limit = assert_cut_by_budget(&o);
+    assert!(limit < 10, "{limit}");
+}
+
+#[test]
+fn the_command_line_may_ask_for_more_than_the_budget() {
+    let args = ["simulate", "--scenario", "random:1,size=180x180", "--robots", "2000", "--json"];
+    let limit = assert_cut_by_budget(&gridswarm(&args));
+    let more = (limit + 2).to_string();
+    let o = gridswarm(&[&args[..], &["--max-rounds", &more]].concat());
+    let s = incomplete(&o);
+    assert_eq!(s["rounds"].as_u64(), Some(limit + 2), "{s}");
+    assert_eq!(s["max_rounds"].as_u64(), Some(limit + 2), "{s}");
+    assert!(!text(&o.stderr).contains("MAX_SEARCH_WORK"), "{}", text(&o.stderr));
+}
+
+#[test]
+fn the_paper_map_keeps_the_whole_default() {
+    // Fig. 7's largest team: the budget must not touch it.
+    let o = gridswarm(&["simulate", "--robots", "13", "--json"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(s["max_rounds"].as_u64(), Some(DEFAULT_MAX_ROUNDS as u64), "{s}");
+    assert!(!text(&o.stderr).contains("MAX_SEARCH_WORK"));
+}
