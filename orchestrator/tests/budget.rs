@@ -68,3 +68,19 @@ fn the_paper_map_keeps_the_whole_default() {
     assert_eq!(s["max_rounds"].as_u64(), Some(DEFAULT_MAX_ROUNDS as u64), "{s}");
     assert!(!text(&o.stderr).contains("MAX_SEARCH_WORK"));
 }
+
+#[test]
+fn a_team_whose_one_round_passes_the_budget_is_refused_before_it_runs() {
+    // 2,000 robots all in one radio range: 23 s for one round on main.
+    let file = std::env::temp_dir().join(format!("budget-one-range-{}.toml", std::process::id()));
+    let toml = "name = \"one range\"\nrobots = 2000\nsituation = 2\ngrid = \"triangular\"\n\
+                [params]\na = 1.0\nr_rob = 0.25\nr_safe = 0.30\nr_c = 300.0\n\
+                [area]\npolygon = [[0, 0], [100, 0], [100, 100], [0, 100]]\n\
+                [starts]\nborder = { from = [0, 0] }\n";
+    std::fs::write(&file, toml).unwrap();
+    let o = gridswarm(&["simulate", "--scenario", file.to_str().unwrap(), "--json"]);
+    let _ = std::fs::remove_file(&file);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(err.contains("above the work budget MAX_SEARCH_WORK") && err.contains("--max-rounds N"), "{err}");
+}

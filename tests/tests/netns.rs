@@ -217,6 +217,8 @@ fn a_run_across_namespaces_is_the_in_process_run() {
         assert_eq!(v["robots"], 13);
         assert_eq!(v["collisions"], 0);
         assert_eq!(v["died"], serde_json::json!([]));
+        // Agents on other hosts are not measured: unknown, not 0.
+        assert!(v["agent_cpu_ms_total"].is_null(), "{v}");
     }
     assert!(own_namespaces().iter().all(|n| !n.contains("c1")), "namespaces left: {:?}", own_namespaces());
     search(&[&["simulate", "--robots", "13", "--out", sim.to_str().unwrap()][..], &run[..]].concat());

@@ -59,12 +59,13 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     // Before the run, so a bad directory fails at once.
     let stage = opts.out.as_deref().map(Staging::begin).transpose()?;
     let world = scenario.world();
+    // Before the assumption checks, which are dear on a big map.
+    let (max_rounds, budget) = round_limit(opts.max_rounds, &world, robots).map_err(Error::Input)?;
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
         eprintln!("{w}");
     }
     let lfp = contract::lfp_params(&scenario);
-    let (max_rounds, budget) = round_limit(opts.max_rounds, &world, robots);
     cfg.max_rounds = max_rounds;
     cfg.record_trajectories = opts.out.is_some();
     cfg.measure_coverage = true;
@@ -122,14 +123,15 @@ impl Budgeted {
 }
 
 /// The run's round limit: the command line's, else the default lowered to
-/// fit the work budget, with what lowered it (`None` when nothing did).
-pub fn round_limit(given: Option<u32>, world: &World, robots: usize) -> (u32, Option<Budgeted>) {
+/// fit the work budget, with what lowered it (`None` when nothing did); an
+/// error when not one round fits.
+pub fn round_limit(given: Option<u32>, world: &World, robots: usize) -> std::result::Result<(u32, Option<Budgeted>), String> {
     if let Some(n) = given {
-        return (n, None);
+        return Ok((n, None));
     }
     let p = &world.params;
     let heard = limits::hearable(robots, p.r_c, p.a, world.grid.lattice.kind);
     let round_work = limits::round_work(robots, world.grid.len() as f64, heard);
-    let n = limits::round_limit(round_work);
-    (n, (n < limits::DEFAULT_MAX_ROUNDS).then_some(Budgeted { round_work }))
+    let n = limits::round_limit(round_work)?;
+    Ok((n, (n < limits::DEFAULT_MAX_ROUNDS).then_some(Budgeted { round_work })))
 }

@@ -57,7 +57,7 @@ pub const MAX_ROBOTS: usize = crate::protocol::MAX_ROBOTS;
 /// extent and `a`, before any is made).
 pub const MAX_FRAME_VERTICES: f64 = 1e6;
 /// Cells of the coverage raster (side `a / 10` over the area's bounding box).
-pub const MAX_RASTER_CELLS: f64 = 1.5e8;
+pub const MAX_RASTER_CELLS: f64 = 4e7;
 /// Frame vertices times (AREA_CORNER_WEIGHT x area corners + obstacles +
 /// targets): what building and checking a world would test if every vertex
 /// met every edge of the area, obstacle and target. World::new looks only
@@ -235,13 +235,19 @@ pub fn round_work(robots: usize, frame_vertices: f64, hearable: f64) -> f64 {
 
 /// The round limit of a run nobody gave one: [`DEFAULT_MAX_ROUNDS`], or
 /// fewer if that many rounds of `round_work` would pass
-/// [`MAX_SEARCH_WORK`]; at least one round.
-pub fn round_limit(round_work: f64) -> u32 {
+/// [`MAX_SEARCH_WORK`]; an error if not even one round fits.
+pub fn round_limit(round_work: f64) -> Result<u32, String> {
     let fits = (MAX_SEARCH_WORK / round_work.max(1.0)).floor();
     if fits >= DEFAULT_MAX_ROUNDS as f64 {
-        DEFAULT_MAX_ROUNDS
+        Ok(DEFAULT_MAX_ROUNDS)
+    } else if fits >= 1.0 {
+        Ok(fits as u32)
     } else {
-        (fits as u32).max(1)
+        Err(format!(
+            "one round would cost {round_work:.3e}, above the work budget MAX_SEARCH_WORK = {MAX_SEARCH_WORK:e} \
+             (the maps and frames of every robot in range): use fewer robots or a shorter r_c, \
+             or ask for rounds anyway with --max-rounds N"
+        ))
     }
 }
 
@@ -321,7 +327,7 @@ mod tests {
         let paper = Extent { width: 20.0, height: 16.0, a: 1.0, kind: LatticeKind::Triangular };
         let r_c = 2.1;
         let rounds = |robots: usize, e: &Extent| {
-            round_limit(round_work(robots, e.frame_vertices(), hearable(robots, r_c, e.a, e.kind)))
+            round_limit(round_work(robots, e.frame_vertices(), hearable(robots, r_c, e.a, e.kind))).unwrap()
         };
         // Fig. 7's counts on the paper map keep the whole default.
         assert_eq!(rounds(13, &paper), DEFAULT_MAX_ROUNDS);
@@ -337,12 +343,14 @@ mod tests {
         let one_range =
             |robots| round_limit(round_work(robots, field.frame_vertices(), hearable(robots, 300.0, 1.0, field.kind)));
         // 100 robots: 0.035 s a round, measured.
-        assert!(one_range(100) < 300, "{}", one_range(100));
-        assert_eq!(one_range(500), 1);
+        assert!(one_range(100).is_ok_and(|n| n < 300), "{:?}", one_range(100));
+        assert_eq!(one_range(500), Ok(1));
+        // 2,000 robots in one range took 23 s for one round: refused.
+        assert!(one_range(2000).is_err_and(|e| e.contains("MAX_SEARCH_WORK") && e.contains("--max-rounds")));
         // A robot hears at most those within r_c, and never more than the others.
         assert_eq!(hearable(1, r_c, 1.0, LatticeKind::Triangular), 0.0);
         let disc = hearable(10_000, r_c, 1.0, LatticeKind::Triangular);
         assert!(disc >= 18.0 && disc < 40.0, "{disc}");
-        assert_eq!(round_limit(f64::INFINITY), 1);
+        assert!(round_limit(f64::INFINITY).is_err());
     }
 }
