@@ -25,10 +25,24 @@ fn main() {
     let list = Path::new(env!("CARGO_MANIFEST_DIR")).join("hot-symbols.txt");
     println!("cargo:rerun-if-changed={}", list.display());
     println!("cargo:rerun-if-changed=build.rs");
-    let flags = std::env::var("CARGO_ENCODED_RUSTFLAGS").unwrap_or_default();
-    let default_linker = std::env::var("TARGET").as_deref() == Ok("x86_64-unknown-linux-gnu") && !flags.contains("link");
-    if default_linker && list.is_file() {
+    if links_with_lld() && list.is_file() {
         println!("cargo:rustc-link-arg-bins=-Wl,--symbol-ordering-file={}", list.display());
         println!("cargo:rustc-link-arg-bins=-Wl,--no-warn-symbol-ordering");
     }
+}
+
+/// Whether the binary is linked by rust-lld: the default for
+/// x86_64-unknown-linux-gnu since Rust 1.90, unless the flags choose a linker.
+fn links_with_lld() -> bool {
+    let flags = std::env::var("CARGO_ENCODED_RUSTFLAGS").unwrap_or_default();
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let minor = std::process::Command::new(rustc)
+        .arg("--version")
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .and_then(|v| v.split_whitespace().nth(1)?.split('.').nth(1)?.parse::<u32>().ok());
+    std::env::var("TARGET").as_deref() == Ok("x86_64-unknown-linux-gnu")
+        && !flags.contains("link")
+        && minor.is_some_and(|m| m >= 90)
 }
