@@ -84,3 +84,17 @@ fn a_team_whose_one_round_passes_the_budget_is_refused_before_it_runs() {
     let err = text(&o.stderr);
     assert!(err.contains("above the work budget MAX_SEARCH_WORK") && err.contains("--max-rounds N"), "{err}");
 }
+
+#[test]
+fn every_rule_of_a_big_team_stops_at_the_budget() {
+    // LFP looks at every pair of robots each micro-step: on main it had the
+    // grid's 5 rounds (9 s of CPU); escape and frontier kept each robot's
+    // search space (14 and 6.7 GB on main) and now share it.
+    for (rule, most) in [("lfp", 2), ("escape", 9), ("frontier", 9)] {
+        let o = gridswarm(&[
+            "simulate", "--scenario", "random:1,size=180x180", "--robots", "10000", "--algorithm", rule, "--json",
+        ]);
+        let limit = assert_cut_by_budget(&o);
+        assert!(limit <= most, "{rule}: {limit}");
+    }
+}

@@ -60,7 +60,7 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     let stage = opts.out.as_deref().map(Staging::begin).transpose()?;
     let world = scenario.world();
     // Before the assumption checks, which are dear on a big map.
-    let (max_rounds, budget) = round_limit(opts.max_rounds, &world, robots).map_err(Error::Input)?;
+    let (max_rounds, budget) = round_limit(opts.max_rounds, &world, robots, opts.algorithm).map_err(Error::Input)?;
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
         eprintln!("{w}");
@@ -113,7 +113,7 @@ impl Budgeted {
     pub fn note(&self, max_rounds: u32) -> String {
         format!(
             "note: stopped at the round limit {max_rounds} set by the work budget MAX_SEARCH_WORK = {:e} \
-             ({:.3e} a round: the maps and frames of every robot in range); \
+             ({:.3e} a round, as docs/scenario-format.md counts it); \
              ask for more with --max-rounds N (default {})\n",
             limits::MAX_SEARCH_WORK,
             self.round_work,
@@ -125,13 +125,22 @@ impl Budgeted {
 /// The run's round limit: the command line's, else the default lowered to
 /// fit the work budget, with what lowered it (`None` when nothing did); an
 /// error when not one round fits.
-pub fn round_limit(given: Option<u32>, world: &World, robots: usize) -> std::result::Result<(u32, Option<Budgeted>), String> {
+pub fn round_limit(
+    given: Option<u32>,
+    world: &World,
+    robots: usize,
+    algorithm: Policy,
+) -> std::result::Result<(u32, Option<Budgeted>), String> {
     if let Some(n) = given {
         return Ok((n, None));
     }
     let p = &world.params;
-    let heard = limits::hearable(robots, p.r_c, p.a, world.grid.lattice.kind);
-    let round_work = limits::round_work(robots, world.grid.len() as f64, heard);
+    let round_work = if algorithm == Policy::Lfp {
+        limits::lfp_round_work(robots)
+    } else {
+        let heard = limits::hearable(robots, p.r_c, p.a, world.grid.lattice.kind);
+        limits::round_work(robots, world.grid.len() as f64, heard)
+    };
     let n = limits::round_limit(round_work)?;
     Ok((n, (n < limits::DEFAULT_MAX_ROUNDS).then_some(Budgeted { round_work })))
 }

@@ -41,6 +41,17 @@ pub struct Escape {
 
 impl ChoiceRule for Escape {
     fn choose(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
+        let step = self.pick(view, rng);
+        // Searches' space back to the pool: only the target is kept.
+        self.paths.release();
+        self.others.release();
+        self.detour.release();
+        step
+    }
+}
+
+impl Escape {
+    fn pick(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
         let (unvisited, visited) = view.split();
         if !unvisited.is_empty() {
             self.target = None;
@@ -56,9 +67,7 @@ impl ChoiceRule for Escape {
         }
         repel(view, &visited, rng)
     }
-}
 
-impl Escape {
     fn towards_unvisited(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
         if let Some(t) = self.target.filter(|&t| !view.visited(t) && !self.taken(view, t)) {
             let steps = self.paths.first_steps(view, t, view.blocked);

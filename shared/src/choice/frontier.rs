@@ -21,6 +21,14 @@ pub struct Frontier {
 
 impl ChoiceRule for Frontier {
     fn choose(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
+        let step = self.pick(view, rng);
+        self.release();
+        step
+    }
+}
+
+impl Frontier {
+    fn pick(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
         let (unvisited, visited) = view.split();
         if !unvisited.is_empty() {
             return uniform(rng, &unvisited);
@@ -33,9 +41,12 @@ impl ChoiceRule for Frontier {
         // robots from facing each other in a corridor for ever.
         uniform(rng, &visited)
     }
-}
 
-impl Frontier {
+    /// Gives the search's space back: nothing of it is read next round.
+    pub fn release(&mut self) {
+        self.paths.release();
+    }
+
     /// The first step of a shortest path to a nearest unvisited vertex
     /// among those the robot can start towards this round (its first step
     /// a candidate); `None` when there is none.

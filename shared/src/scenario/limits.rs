@@ -100,6 +100,11 @@ pub const MAX_SEARCH_WORK: f64 = 1e11;
 /// `k^2` (500 robots in one radio range took 2.2 s a round).
 pub const HEARD_PAIR_WORK: f64 = 400.0;
 
+/// What a pair of robots costs an LFP round, in [`MAX_SEARCH_WORK`]'s
+/// units: LFP robots do not talk, but every micro-step looks at every pair
+/// (10,000 robots on 180 x 180 m: about 1.4 s of CPU a round).
+pub const LFP_PAIR_WORK: f64 = 500.0;
+
 /// Grid side of the coverage raster, in `a` (assumptions.rs, `coverage`).
 const RASTER_SIDES: f64 = 0.1;
 
@@ -233,6 +238,12 @@ pub fn round_work(robots: usize, frame_vertices: f64, hearable: f64) -> f64 {
     robots as f64 * (maps + hearable * hearable * HEARD_PAIR_WORK)
 }
 
+/// What one LFP round of `robots` robots costs, in [`MAX_SEARCH_WORK`]'s
+/// units: robots^2 x [`LFP_PAIR_WORK`].
+pub fn lfp_round_work(robots: usize) -> f64 {
+    (robots as f64).powi(2) * LFP_PAIR_WORK
+}
+
 /// The round limit of a run nobody gave one: [`DEFAULT_MAX_ROUNDS`], or
 /// fewer if that many rounds of `round_work` would pass
 /// [`MAX_SEARCH_WORK`]; an error if not even one round fits.
@@ -245,7 +256,7 @@ pub fn round_limit(round_work: f64) -> Result<u32, String> {
     } else {
         Err(format!(
             "one round would cost {round_work:.3e}, above the work budget MAX_SEARCH_WORK = {MAX_SEARCH_WORK:e} \
-             (the maps and frames of every robot in range): use fewer robots or a shorter r_c, \
+             (as docs/scenario-format.md counts it): use fewer robots or a shorter r_c, \
              or ask for rounds anyway with --max-rounds N"
         ))
     }
@@ -352,5 +363,8 @@ mod tests {
         let disc = hearable(10_000, r_c, 1.0, LatticeKind::Triangular);
         assert!(disc >= 18.0 && disc < 40.0, "{disc}");
         assert!(round_limit(f64::INFINITY).is_err());
+        // LFP: Fig. 7's 13 robots keep the default, 10,000 get a round or two.
+        assert_eq!(round_limit(lfp_round_work(13)), Ok(DEFAULT_MAX_ROUNDS));
+        assert!(round_limit(lfp_round_work(10_000)).is_ok_and(|n| n <= 2));
     }
 }
