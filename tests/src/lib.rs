@@ -180,6 +180,17 @@ pub fn arg_of(cmd: &[String], flag: &str) -> Option<String> {
         .and_then(|k| cmd.get(k + 1).cloned())
 }
 
+/// Whether this test process is root. A test that needs root and lacks it
+/// says so (`test`: not root, so `lacking`) and checks nothing; CI is root.
+pub fn as_root(test: &str, lacking: &str) -> bool {
+    // SAFETY: geteuid has no preconditions.
+    let root = unsafe { libc::geteuid() == 0 };
+    if !root {
+        eprintln!("{test}: not root, so {lacking}; nothing checked");
+    }
+    root
+}
+
 pub fn alive(pid: u32) -> bool {
     gridswarm::ipc::pid_alive(pid)
 }

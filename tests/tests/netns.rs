@@ -28,16 +28,8 @@ const HEAD: &str = "gsnt";
 const AGENT_HOSTS: usize = 3;
 const PORT: u16 = 7447;
 
-fn is_root() -> bool {
-    // SAFETY: geteuid has no preconditions.
-    unsafe { libc::geteuid() == 0 }
-}
-
 fn can_make_hosts(test: &str) -> bool {
-    if !is_root() {
-        eprintln!("{test}: not root, so no network namespaces; nothing checked");
-    }
-    is_root()
+    as_root(test, "no network namespaces")
 }
 
 fn ip(args: &[&str]) -> Output {

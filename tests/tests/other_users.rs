@@ -20,18 +20,10 @@ const OTHER_UID: u32 = 65534;
 /// Set in the hostile writer's environment: the pid whose runs it attacks.
 const HOSTILE: &str = "GRIDSWARM_TEST_HOSTILE_PID";
 
-fn is_root() -> bool {
-    // SAFETY: geteuid has no preconditions.
-    unsafe { libc::geteuid() == 0 }
-}
-
 /// Becoming another user takes root. Without it these tests cannot make
 /// the other user at all; they say so and check nothing.
 fn can_switch_user(test: &str) -> bool {
-    if !is_root() {
-        eprintln!("{test}: not root, so no other uid to act as; nothing checked");
-    }
-    is_root()
+    as_root(test, "no other uid to act as")
 }
 
 /// Whether the other user may run `program`: it and every folder above it
