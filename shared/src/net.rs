@@ -127,6 +127,19 @@ fn one_chunk(seq: u64, bytes: &[u8], max_chunks: usize) -> Result<Vec<u8>, Strin
     Ok(chunk)
 }
 
+/// A publisher of the run's messages on `key`. It blocks rather than drops
+/// when the link is full, and sends at once, unbatched: a round is a chain
+/// of round trips.
+fn publisher(session: &zenoh::Session, key: String, what: &str) -> Result<zenoh::pubsub::Publisher<'static>, String> {
+    use zenoh::Wait;
+    session
+        .declare_publisher(key)
+        .congestion_control(zenoh::qos::CongestionControl::Block)
+        .express(true)
+        .wait()
+        .map_err(err(what))
+}
+
 fn err(what: &str) -> impl Fn(zenoh::Error) -> String + '_ {
     move |e| format!("zenoh: {what}: {e}")
 }

@@ -9,12 +9,11 @@ use std::time::{Duration, Instant};
 use zenoh::handlers::FifoChannelHandler;
 use zenoh::liveliness::LivelinessToken;
 use zenoh::pubsub::{Publisher, Subscriber};
-use zenoh::qos::CongestionControl;
 use zenoh::sample::{Sample, SampleKind};
 use zenoh::{Session, Wait};
 
 use super::retry::{seq_of, Incoming, Replies};
-use super::{err, one_chunk, NetConfig};
+use super::{err, one_chunk, publisher, NetConfig};
 use crate::ipc;
 use crate::transport::AgentTransport;
 
@@ -38,12 +37,7 @@ impl ZenohAgent {
         let root = net.root()?;
         let session = zenoh::open(net.zenoh("client")?).wait().map_err(err("cannot reach the world"))?;
         let inbox = session.declare_subscriber(format!("{root}/in/{robot}")).wait().map_err(err("cannot subscribe to the inbox"))?;
-        let outbox = session
-            .declare_publisher(format!("{root}/out/{robot}"))
-            .congestion_control(CongestionControl::Block)
-            .express(true)
-            .wait()
-            .map_err(err("cannot declare the outbox"))?;
+        let outbox = publisher(&session, format!("{root}/out/{robot}"), "cannot declare the outbox")?;
         let world = session
             .liveliness()
             .declare_subscriber(format!("{root}/world"))

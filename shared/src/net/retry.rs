@@ -72,10 +72,15 @@ impl Outstanding {
         true
     }
 
+    /// Whether a message may be overdue at `now`.
+    pub fn due(&self, now: Instant) -> bool {
+        self.next_due.is_some_and(|d| now >= d)
+    }
+
     /// Hands every message overdue at `now` to `put` again, and backs off;
     /// `put` says whether it sent it (a robot known gone hears nothing).
     pub fn repeat_due(&mut self, now: Instant, mut put: impl FnMut(usize, &[u8]) -> bool) {
-        if self.next_due.is_none_or(|d| now < d) {
+        if !self.due(now) {
             return;
         }
         let mut next: Option<Instant> = None;

@@ -9,12 +9,11 @@ use std::time::{Duration, Instant};
 use zenoh::handlers::{FifoChannel, FifoChannelHandler};
 use zenoh::liveliness::LivelinessToken;
 use zenoh::pubsub::{Publisher, Subscriber};
-use zenoh::qos::CongestionControl;
 use zenoh::sample::{Sample, SampleKind};
 use zenoh::{Session, Wait};
 
 use super::retry::Outstanding;
-use super::{err, one_chunk, NetConfig};
+use super::{err, one_chunk, publisher, NetConfig};
 use crate::ipc;
 use crate::transport::WorldTransport;
 
@@ -52,17 +51,9 @@ impl ZenohWorld {
     pub fn open(net: &NetConfig, robots: usize) -> Result<Self, String> {
         let root = net.root()?;
         let session = zenoh::open(net.zenoh("router")?).wait().map_err(err("cannot open the world's session"))?;
-        let mut inboxes = Vec::with_capacity(robots);
-        for r in 0..robots {
-            let p = session
-                .declare_publisher(format!("{root}/in/{r}"))
-                .congestion_control(CongestionControl::Block)
-                // Sent at once, not batched: a round is a chain of round trips.
-                .express(true)
-                .wait()
-                .map_err(err("cannot declare a publisher"))?;
-            inboxes.push(p);
-        }
+        let inboxes = (0..robots)
+            .map(|r| publisher(&session, format!("{root}/in/{r}"), "cannot declare a publisher"))
+            .collect::<Result<Vec<_>, _>>()?;
         let answers = session
             .declare_subscriber(format!("{root}/out/*"))
             .with(FifoChannel::new(QUEUE))
@@ -113,9 +104,13 @@ impl ZenohWorld {
     /// token is there. A put that fails is left to the next repeat: the
     /// robot's silence is the world's business, not the transport's.
     fn repeat_overdue(&self) {
+        let now = Instant::now();
+        if !self.outstanding.borrow().due(now) {
+            return;
+        }
         self.follow_tokens();
         let presence = self.presence.borrow();
-        self.outstanding.borrow_mut().repeat_due(Instant::now(), |r, c| {
+        self.outstanding.borrow_mut().repeat_due(now, |r, c| {
             presence[r] != Presence::Gone && self.inboxes[r].put(c.to_vec()).wait().is_ok()
         });
     }
