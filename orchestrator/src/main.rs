@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
+use gridswarm_orchestrator::error::EXIT_INCOMPLETE;
 use gridswarm_orchestrator::experiment::{
     self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_MAX_ROUNDS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
 };
@@ -24,8 +25,7 @@ use gridswarm_orchestrator::radio::{self, RadioOptions};
 use gridswarm_orchestrator::robots::{RobotCounts, MAX_ROBOTS};
 use gridswarm_orchestrator::scale::{self, ScaleOptions};
 use gridswarm_orchestrator::simulate::{self, SimulateOptions};
-use gridswarm_orchestrator::sweep::Engine;
-use gridswarm_orchestrator::error::EXIT_INCOMPLETE;
+use gridswarm_orchestrator::sweep::{Engine, ProtocolOptions};
 use gridswarm_orchestrator::{check, Error};
 
 #[derive(Parser, Debug)]
@@ -41,10 +41,8 @@ enum Command {
     /// One search in-process: a summary, or one JSON object; with --out, its files.
     /// Takes the same failure and radio flags as `run`.
     Simulate {
-        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
-        /// random:SEED[,options] (see `gridswarm check --help`).
-        #[arg(long, default_value = "paper")]
-        scenario: String,
+        #[command(flatten)]
+        scenario: ScenarioArg,
         /// repulsive, sequential, ru, lfp, escape, frontier or oracle (a reference planner).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
@@ -81,10 +79,8 @@ enum Command {
     Experiment {
         #[command(subcommand)]
         kind: Option<ExperimentKind>,
-        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
-        /// random:SEED[,options] (see `gridswarm check --help`).
-        #[arg(long, default_value = "paper")]
-        scenario: String,
+        #[command(flatten)]
+        scenario: ScenarioArg,
         /// Comma-separated algorithms (repulsive, sequential, ru, lfp, escape, frontier, oracle).
         #[arg(long, value_delimiter = ',', default_value = DEFAULT_ALGORITHMS, conflicts_with = "grids")]
         algorithms: Vec<Policy>,
@@ -128,10 +124,8 @@ enum Command {
     /// One search with one process per robot (world-server + robot-agents
     /// over iceoryx2), with failure injection; the same files as `simulate`.
     Run {
-        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
-        /// random:SEED[,options] (see `gridswarm check --help`).
-        #[arg(long, default_value = "paper")]
-        scenario: String,
+        #[command(flatten)]
+        scenario: ScenarioArg,
         /// repulsive, sequential, ru, escape, frontier, or one --agent-bin lists (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
@@ -193,13 +187,8 @@ enum ExperimentKind {
     /// Writes failures.csv, failures-runs.csv, failures.svg and report.html
     /// in --out and prints the table.
     Failures {
-        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
-        /// random:SEED[,options] (see `gridswarm check --help`).
-        #[arg(long, default_value = "paper")]
-        scenario: String,
-        /// repulsive, sequential, ru, escape or frontier (grid policies only).
-        #[arg(long, default_value = "repulsive")]
-        algorithm: Policy,
+        #[command(flatten)]
+        protocol: ProtocolArgs,
         /// Number of robots (the paper's Fig. 7 goes up to 13).
         #[arg(long, default_value_t = failures::DEFAULT_ROBOTS, value_parser = clap::value_parser!(u32).range(1..=MAX_ROBOTS as i64))]
         robots: u32,
@@ -212,11 +201,6 @@ enum ExperimentKind {
         /// Base seed; run r with k killed has seed derive(derive(seed, k), r).
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        #[command(flatten)]
-        distributed: Distributed,
-        /// Which engine runs the runs.
-        #[arg(long, value_enum, default_value_t = Engine::InProcess)]
-        engine: Engine,
         /// Output directory (created if missing).
         #[arg(long, default_value = failures::DEFAULT_OUT)]
         out: PathBuf,
@@ -228,13 +212,8 @@ enum ExperimentKind {
     /// Writes radio.csv, radio-runs.csv, radio.svg and report.html in --out
     /// and prints the table.
     Radio {
-        /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
-        /// random:SEED[,options] (see `gridswarm check --help`).
-        #[arg(long, default_value = "paper")]
-        scenario: String,
-        /// repulsive, sequential, ru, escape or frontier (grid policies only).
-        #[arg(long, default_value = "repulsive")]
-        algorithm: Policy,
+        #[command(flatten)]
+        protocol: ProtocolArgs,
         /// Loss probabilities per transmission per link, each 0 to 1.
         #[arg(long, default_value = radio::DEFAULT_LOSS)]
         loss: radio::Losses,
@@ -250,11 +229,6 @@ enum ExperimentKind {
         /// Base seed; run r with N robots has seed derive(derive(seed, N), r) for every loss and retries.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        #[command(flatten)]
-        distributed: Distributed,
-        /// Which engine runs the runs.
-        #[arg(long, value_enum, default_value_t = Engine::InProcess)]
-        engine: Engine,
         /// Output directory (created if missing).
         #[arg(long, default_value = radio::DEFAULT_OUT)]
         out: PathBuf,
@@ -324,49 +298,63 @@ struct Distributed {
     max_rounds: u32,
 }
 
+/// What `experiment failures` and `experiment radio` both take.
+#[derive(clap::Args, Debug)]
+struct ProtocolArgs {
+    #[command(flatten)]
+    scenario: ScenarioArg,
+    /// repulsive, sequential, ru, escape or frontier (grid policies only).
+    #[arg(long, default_value = "repulsive")]
+    algorithm: Policy,
+    #[command(flatten)]
+    distributed: Distributed,
+    /// Which engine runs the runs.
+    #[arg(long, value_enum, default_value_t = Engine::InProcess)]
+    engine: Engine,
+}
+
+impl ProtocolArgs {
+    fn options(self, runs: Option<u32>, seed: u64, out: PathBuf) -> ProtocolOptions {
+        ProtocolOptions {
+            scenario: self.scenario.scenario,
+            algorithm: self.algorithm,
+            runs,
+            seed,
+            situation: situation(self.distributed.situation),
+            max_rounds: self.distributed.max_rounds,
+            engine: self.engine,
+            out,
+            progress: experiment::stderr_is_terminal(),
+        }
+    }
+}
+
+/// The map a command searches.
+#[derive(clap::Args, Debug)]
+struct ScenarioArg {
+    /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
+    /// random:SEED[,options] (see `gridswarm check --help`).
+    #[arg(long, default_value = "paper")]
+    scenario: String,
+}
+
 fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
     let progress = experiment::stderr_is_terminal();
     Ok(match kind {
-        ExperimentKind::Failures {
-            scenario,
-            algorithm,
-            robots,
-            killed,
-            runs,
-            seed,
-            distributed: d,
-            engine,
-            out,
-        } => {
+        ExperimentKind::Failures { protocol, robots, killed, runs, seed, out } => {
             let opts = FailuresOptions {
-                scenario,
-                algorithm,
+                protocol: protocol.options(runs, seed, out),
                 robots: Some(robots as usize),
                 killed: killed.0,
-                runs,
-                seed,
-                situation: situation(d.situation),
-                max_rounds: d.max_rounds,
-                engine,
-                out,
-                progress,
             };
             failures::run(&opts)?.1
         }
-        ExperimentKind::Radio { scenario, algorithm, loss, robots, retries, runs, seed, distributed: d, engine, out } => {
+        ExperimentKind::Radio { protocol, loss, robots, retries, runs, seed, out } => {
             let opts = RadioOptions {
-                scenario,
-                algorithm,
+                protocol: protocol.options(runs, seed, out),
                 loss: loss.0,
                 robots: robots.0,
                 retries: retries.0,
-                runs,
-                seed,
-                situation: situation(d.situation),
-                max_rounds: d.max_rounds,
-                engine,
-                out,
-                progress,
             };
             radio::run(&opts)?.1
         }
@@ -390,7 +378,17 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
 
 fn run(cli: Cli) -> Result<ExitCode, Error> {
     match cli.command {
-        Command::Simulate { scenario, algorithm, robots, seed, situation: s, out, json, max_rounds, faults } => {
+        Command::Simulate {
+            scenario: ScenarioArg { scenario },
+            algorithm,
+            robots,
+            seed,
+            situation: s,
+            out,
+            json,
+            max_rounds,
+            faults,
+        } => {
             let opts = SimulateOptions {
                 scenario,
                 algorithm,
@@ -407,13 +405,13 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             return Ok(finished(complete));
         }
         Command::Experiment { kind: Some(kind), .. } => emit(&experiment_kind(kind)?),
-        Command::Experiment { scenario, out, grids: true, .. } => {
+        Command::Experiment { scenario: ScenarioArg { scenario }, out, grids: true, .. } => {
             let out = out.unwrap_or_else(|| PathBuf::from(grids::DEFAULT_OUT));
             let (_, text) = grids::run(&GridsOptions { scenario, out })?;
             emit(&text);
         }
         Command::Experiment {
-            scenario,
+            scenario: ScenarioArg { scenario },
             algorithms,
             robots,
             runs,
@@ -445,7 +443,18 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Replay { dir } => {
             emit(&format!("{}\n", gridswarm_orchestrator::replay::write(&dir)?.display()));
         }
-        Command::Run { scenario, algorithm, robots, seed, distributed: d, out, json, faults, agent_bin: _, net } => {
+        Command::Run {
+            scenario: ScenarioArg { scenario },
+            algorithm,
+            robots,
+            seed,
+            distributed: d,
+            out,
+            json,
+            faults,
+            agent_bin: _,
+            net,
+        } => {
             let base = RunBase {
                 scenario,
                 algorithm,

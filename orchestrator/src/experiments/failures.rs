@@ -10,13 +10,8 @@
 //! so both engines run the same schedule.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
 use std::str::FromStr;
-use std::time::Instant;
 
-use gridswarm::params::Situation;
-use gridswarm::policy::Policy;
-use gridswarm::rng::derive;
 use gridswarm::sim::schedule;
 use serde_json::json;
 
@@ -25,9 +20,10 @@ use crate::error::{Error, Result};
 use crate::faults::FaultPlan;
 use crate::panels::{self, Panel, Series};
 use crate::report::{self, Block, Claim, Report, Section, Table};
-use crate::sweep::{self, Engine, Job, Setting};
-use crate::tally::{self, ProtoRun, ProtoStats};
+use crate::seeds::run_seed;
 use crate::staging::Staging;
+use crate::sweep::{Job, ProtocolOptions};
+use crate::tally::{self, ProtoRun, ProtoStats};
 use crate::{check, contract, output};
 
 pub use crate::report::text_table;
@@ -55,24 +51,10 @@ impl FromStr for Killed {
 
 #[derive(Clone, Debug)]
 pub struct FailuresOptions {
-    pub scenario: String,
-    pub algorithm: Policy,
+    pub protocol: ProtocolOptions,
     /// The scenario's own count when `None`.
     pub robots: Option<usize>,
     pub killed: Vec<usize>,
-    /// Runs per number killed; the engine's default when `None`.
-    pub runs: Option<u32>,
-    pub seed: u64,
-    pub situation: Option<Situation>,
-    pub max_rounds: u32,
-    pub engine: Engine,
-    pub out: PathBuf,
-    pub progress: bool,
-}
-
-/// The seed of run `run` with `killed` robots killed.
-pub fn run_seed(base: u64, killed: usize, run: u32) -> u64 {
-    derive(derive(base, killed as u64), u64::from(run))
 }
 
 /// One row of `failures.csv`: the runs with `killed` robots killed.
@@ -182,7 +164,10 @@ fn figure(rows: &[FailureRow], title: &str) -> std::result::Result<String, Strin
             Series::new("false suspicions", rows.iter().map(|r| (x(r), Some(r.stats.mean_false_suspicions)))),
             Series::new("rejoins", rows.iter().map(|r| (x(r), Some(r.stats.mean_rejoins)))),
             Series::new("unsure stays", rows.iter().map(|r| (x(r), Some(r.stats.mean_unsure)))),
-            Series::new("collisions per 10^6 moves", rows.iter().map(|r| (x(r), Some(r.stats.collisions_per_million_moves)))),
+            Series::new(
+                "collisions per 10^6 moves",
+                rows.iter().map(|r| (x(r), Some(r.stats.collisions_per_million_moves))),
+            ),
         ],
     );
     panels::panels_svg(title, &[time, done, delay, protocol], &xs)
@@ -190,22 +175,10 @@ fn figure(rows: &[FailureRow], title: &str) -> std::result::Result<String, Strin
 
 /// The options checked, the scenario loaded; the robot count.
 fn prepare(opts: &FailuresOptions) -> Result<(gridswarm::scenario::Scenario, usize)> {
-    if opts.runs == Some(0) {
-        return Err(Error::Input("--runs must be at least 1".into()));
-    }
     if opts.killed.is_empty() {
         return Err(Error::Input("--killed needs at least one count".into()));
     }
-    if !opts.algorithm.on_grid() {
-        return Err(Error::Usage(format!(
-            "`experiment failures` needs the radio protocol of the grid policies; `{}` moves off the grid",
-            opts.algorithm
-        )));
-    }
-    let mut scenario = contract::load_scenario(&opts.scenario)?;
-    if let Some(s) = opts.situation {
-        scenario.situation = s;
-    }
+    let scenario = opts.protocol.load("failures")?;
     let robots = opts.robots.unwrap_or(scenario.robots);
     if robots == 0 {
         return Err(Error::Input("at least 1 robot is needed".into()));
@@ -222,7 +195,7 @@ fn jobs(opts: &FailuresOptions, robots: usize, runs: u32) -> Vec<(usize, u32, Jo
     let mut out = Vec::new();
     for &k in &opts.killed {
         for r in 0..runs {
-            let seed = run_seed(opts.seed, k, r);
+            let seed = run_seed(opts.protocol.seed, k, u64::from(r));
             let plan = FaultPlan { kill_random: k, ..FaultPlan::default() };
             out.push((k, r, Job { robots, seed, plan, what: format!("run {r} with {k} killed, seed {seed}") }));
         }
@@ -233,25 +206,15 @@ fn jobs(opts: &FailuresOptions, robots: usize, runs: u32) -> Vec<(usize, u32, Jo
 /// Runs the experiment; returns the rows and the text for stdout.
 pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
     let (scenario, robots) = prepare(opts)?;
-    let runs_per = opts.runs.unwrap_or(match opts.engine {
-        Engine::InProcess => DEFAULT_RUNS,
-        Engine::Distributed => DEFAULT_RUNS_DISTRIBUTED,
-    });
+    let runs_per = opts.protocol.runs_per(DEFAULT_RUNS, DEFAULT_RUNS_DISTRIBUTED);
     // Before any run: an unwritable --out fails now, not after the runs.
-    let stage = Staging::begin(&opts.out)?;
+    let stage = Staging::begin(&opts.protocol.out)?;
     let world = scenario.world();
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
         eprintln!("{w}");
     }
-    let planned = jobs(opts, robots, runs_per);
-    let job_list: Vec<Job> = planned.iter().map(|(_, _, j)| j.clone()).collect();
-    let setting =
-        Setting { scenario_arg: &opts.scenario, scenario: &scenario, algorithm: opts.algorithm, max_rounds: opts.max_rounds };
-    let started = Instant::now();
-    let results = sweep::execute(opts.engine, &setting, &job_list, opts.progress)?;
-    let wall_time_s = started.elapsed().as_secs_f64();
-    let runs: Vec<(usize, u32, ProtoRun)> = planned.iter().zip(results).map(|((k, r, _), p)| (*k, *r, p)).collect();
+    let (runs, wall_time_s) = opts.protocol.execute(&scenario, &jobs(opts, robots, runs_per))?;
 
     let rows: Vec<FailureRow> = opts
         .killed
@@ -286,7 +249,7 @@ impl Page<'_> {
     fn title(&self) -> String {
         format!(
             "{}: {} robots, {}, {} runs per point, robots crashed at random times inside rounds",
-            self.scenario.name, self.robots, self.opts.algorithm, self.runs_per
+            self.scenario.name, self.robots, self.opts.protocol.algorithm, self.runs_per
         )
     }
 
@@ -296,25 +259,25 @@ impl Page<'_> {
             "scenario": self.scenario.name,
             "grid": self.scenario.grid.name(),
             "situation": self.scenario.situation.number(),
-            "algorithm": o.algorithm.name(),
+            "algorithm": o.protocol.algorithm.name(),
             "robots": self.robots,
             "killed": o.killed,
             "runs": self.runs_per,
-            "seed": o.seed,
+            "seed": o.protocol.seed,
             "seed_derivation": "run r with k killed has seed derive(derive(seed, k), r) with gridswarm::rng::derive; \
                 its victims and crash times are drawn from that seed as by `--kill-random k`",
             "reproduce": format!(
                 "gridswarm simulate --scenario {} --situation {} --algorithm {} --robots {} --seed SEED \
                  --kill-random K --max-rounds {} (SEED and K from failures-runs.csv)",
-                o.scenario,
+                o.protocol.scenario,
                 self.scenario.situation.number(),
-                o.algorithm,
+                o.protocol.algorithm,
                 self.robots,
-                o.max_rounds
+                o.protocol.max_rounds
             ),
             "crash_times": format!("rounds 1 to {}, at an offset below {} s into the round", schedule::RANDOM_ROUNDS, schedule::RANDOM_OFFSET_S),
-            "max_rounds": o.max_rounds,
-            "engine": o.engine.describe(),
+            "max_rounds": o.protocol.max_rounds,
+            "engine": o.protocol.engine.describe(),
             "statistics": "search time (mean ± 1.96 std/sqrt(n)) and rounds over completed runs; counts are means per \
                 run over all runs; collisions per 10^6 moves pool every run; detection delay over every detected \
                 crash (rounds, and simulated s after the crash)",
@@ -327,27 +290,25 @@ impl Page<'_> {
         output::write_text(&out.join("failures.csv"), &csv(self.rows))?;
         output::write_text(&out.join("failures-runs.csv"), &runs_csv(self.runs))?;
         let svg_path = out.join("failures.svg");
-        let svg = figure(self.rows, &self.title()).map_err(|message| Error::Plot { path: svg_path.clone(), message })?;
+        let svg =
+            figure(self.rows, &self.title()).map_err(|message| Error::Plot { path: svg_path.clone(), message })?;
         output::write_text(&svg_path, &svg)?;
         output::write_text(&out.join("report.html"), &report::render(&self.report(svg)))
     }
 
     fn report(&self, svg: String) -> Report {
-        let files = [
-            ("failures.csv", "the results table"),
-            ("failures-runs.csv", "every run"),
-            ("failures.svg", "the figure"),
-        ];
+        let files =
+            [("failures.csv", "the results table"), ("failures-runs.csv", "every run"), ("failures.svg", "the figure")];
         Report {
             title: format!("Failures: {} scenario, {} robots", self.scenario.name, self.robots),
             subtitle: format!(
                 "{} killed, {} runs each, base seed {}; {} runs in {:.1} s wall time ({})",
                 crate::robots::compress(&self.opts.killed).replace('-', "–"),
                 self.runs_per,
-                self.opts.seed,
+                self.opts.protocol.seed,
                 self.runs.len(),
                 self.wall_time_s,
-                self.opts.engine.describe()
+                self.opts.protocol.engine.describe()
             ),
             sections: vec![
                 Section::new(
@@ -364,10 +325,7 @@ impl Page<'_> {
                 Section::new("Checks", vec![Block::Claims(checks(self.rows))]),
                 Section::new("Results", vec![Block::Table(table(self.rows))]),
                 Section::new("Parameters", vec![Block::Params(report::params_of("", &self.params()))]),
-                Section::new(
-                    "Files",
-                    vec![Block::Files(files.map(|(a, b)| (a.to_string(), b.to_string())).to_vec())],
-                ),
+                Section::new("Files", vec![Block::Files(files.map(|(a, b)| (a.to_string(), b.to_string())).to_vec())]),
             ],
         }
     }
@@ -378,14 +336,14 @@ impl Page<'_> {
              {} runs in {:.1} s; wrote failures.csv, failures-runs.csv, failures.svg, report.html in {}\n",
             self.scenario.name,
             self.robots,
-            self.opts.algorithm,
+            self.opts.protocol.algorithm,
             self.runs_per,
-            self.opts.seed,
-            self.opts.engine.name(),
+            self.opts.protocol.seed,
+            self.opts.protocol.engine.name(),
             text_table(&table(self.rows)),
             self.runs.len(),
             self.wall_time_s,
-            self.opts.out.display()
+            self.opts.protocol.out.display()
         )
     }
 }
@@ -431,7 +389,15 @@ fn checks(rows: &[FailureRow]) -> Vec<Claim> {
             verdict: verdict(rows.iter().all(|r| r.stats.completed_runs == r.stats.runs)),
             evidence: rows
                 .iter()
-                .map(|r| format!("{} killed: {}/{} complete ({})", r.killed, r.stats.completed_runs, r.stats.runs, r.stats.endings()))
+                .map(|r| {
+                    format!(
+                        "{} killed: {}/{} complete ({})",
+                        r.killed,
+                        r.stats.completed_runs,
+                        r.stats.runs,
+                        r.stats.endings()
+                    )
+                })
                 .collect(),
         },
     ]

@@ -9,15 +9,9 @@
 //! the same starts and the same draws of the decision core (paired runs);
 //! the radio's own draws depend on the seed and the transmission only.
 
-// The seed of a run is the sweep's, the same for every loss and retries.
-use crate::seeds::run_seed;
 use std::fmt::Write as _;
-use std::path::PathBuf;
 use std::str::FromStr;
-use std::time::Instant;
 
-use gridswarm::params::Situation;
-use gridswarm::policy::Policy;
 use gridswarm::sim::Radio;
 use serde_json::json;
 
@@ -25,9 +19,11 @@ use crate::error::{Error, Result};
 use crate::faults::{self, FaultPlan};
 use crate::panels::{self, Panel, Series};
 use crate::report::{self, text_table, Block, Report, Section, Table};
-use crate::sweep::{self, Engine, Job, Setting};
-use crate::tally::{self, ProtoRun, ProtoStats};
+// The seed of a run is the sweep's, the same for every loss and retries.
+use crate::seeds::run_seed;
 use crate::staging::Staging;
+use crate::sweep::{Job, ProtocolOptions};
+use crate::tally::{self, ProtoRun, ProtoStats};
 use crate::{check, contract, output};
 
 pub const DEFAULT_LOSS: &str = "0,0.05,0.1,0.2,0.3";
@@ -67,7 +63,10 @@ impl FromStr for RetryCounts {
     fn from_str(s: &str) -> std::result::Result<Self, String> {
         let mut out = Vec::new();
         for part in s.split(',') {
-            let r: u32 = part.trim().parse().map_err(|_| format!("bad --retries `{s}`: `{}` is not a whole number", part.trim()))?;
+            let r: u32 = part
+                .trim()
+                .parse()
+                .map_err(|_| format!("bad --retries `{s}`: `{}` is not a whole number", part.trim()))?;
             if r > 254 {
                 return Err(format!("bad --retries `{s}`: at most 254"));
             }
@@ -81,21 +80,11 @@ impl FromStr for RetryCounts {
 
 #[derive(Clone, Debug)]
 pub struct RadioOptions {
-    pub scenario: String,
-    pub algorithm: Policy,
+    pub protocol: ProtocolOptions,
     pub loss: Vec<f64>,
     pub robots: Vec<usize>,
     pub retries: Vec<u32>,
-    /// Runs per point; the engine's default when `None`.
-    pub runs: Option<u32>,
-    pub seed: u64,
-    pub situation: Option<Situation>,
-    pub max_rounds: u32,
-    pub engine: Engine,
-    pub out: PathBuf,
-    pub progress: bool,
 }
-
 
 /// One point of the experiment.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -204,7 +193,12 @@ fn figure(rows: &[RadioRow], losses: &[f64], title: &str) -> std::result::Result
         series(rows, |s| ((s.collisions_per_million_moves > 0.0).then_some(s.collisions_per_million_moves), None)),
     );
     collisions.log_y = true;
-    let mut done = Panel::new("Completion", "loss probability P", "fraction of runs", series(rows, |s| (Some(s.completion_rate), None)));
+    let mut done = Panel::new(
+        "Completion",
+        "loss probability P",
+        "fraction of runs",
+        series(rows, |s| (Some(s.completion_rate), None)),
+    );
     done.y_range = Some((0.0, 1.05));
     let time = Panel::new(
         "Search time (completed runs)",
@@ -212,7 +206,8 @@ fn figure(rows: &[RadioRow], losses: &[f64], title: &str) -> std::result::Result
         "mean search time (s), ± 95% CI",
         series(rows, |s| (s.mean_search_time_s, s.ci95_search_time_s)),
     );
-    let unsure = Panel::new("Unsure stays", "loss probability P", "per run", series(rows, |s| (Some(s.mean_unsure), None)));
+    let unsure =
+        Panel::new("Unsure stays", "loss probability P", "per run", series(rows, |s| (Some(s.mean_unsure), None)));
     panels::panels_svg(title, &[collisions, done, time, unsure], losses)
 }
 
@@ -232,8 +227,12 @@ fn jobs(opts: &RadioOptions, runs: u32) -> Vec<(Point, u32, Job)> {
     let mut out = Vec::new();
     for p in points(opts) {
         for r in 0..runs {
-            let seed = run_seed(opts.seed, p.robots, u64::from(r));
-            let plan = FaultPlan { radio: Radio { loss: p.loss, ..Radio::default() }, retries: Some(p.retries), ..FaultPlan::default() };
+            let seed = run_seed(opts.protocol.seed, p.robots, u64::from(r));
+            let plan = FaultPlan {
+                radio: Radio { loss: p.loss, ..Radio::default() },
+                retries: Some(p.retries),
+                ..FaultPlan::default()
+            };
             let what = format!("run {r}, loss {}, {} robots, {} retries, seed {seed}", p.loss, p.robots, p.retries);
             out.push((p, r, Job { robots: p.robots, seed, plan, what }));
         }
@@ -242,34 +241,20 @@ fn jobs(opts: &RadioOptions, runs: u32) -> Vec<(Point, u32, Job)> {
 }
 
 fn prepare(opts: &RadioOptions) -> Result<gridswarm::scenario::Scenario> {
-    if opts.runs == Some(0) {
-        return Err(Error::Input("--runs must be at least 1".into()));
-    }
     if opts.loss.is_empty() || opts.robots.is_empty() || opts.retries.is_empty() {
-        return Err(Error::Input("the experiment needs at least one loss, one robot count and one retries value".into()));
+        return Err(Error::Input(
+            "the experiment needs at least one loss, one robot count and one retries value".into(),
+        ));
     }
-    if !opts.algorithm.on_grid() {
-        return Err(Error::Usage(format!(
-            "`experiment radio` needs the radio protocol of the grid policies; `{}` moves off the grid",
-            opts.algorithm
-        )));
-    }
-    let mut scenario = contract::load_scenario(&opts.scenario)?;
-    if let Some(s) = opts.situation {
-        scenario.situation = s;
-    }
-    Ok(scenario)
+    opts.protocol.load("radio")
 }
 
 /// Runs the experiment; returns the rows and the text for stdout.
 pub fn run(opts: &RadioOptions) -> Result<(Vec<RadioRow>, String)> {
     let scenario = prepare(opts)?;
-    let runs_per = opts.runs.unwrap_or(match opts.engine {
-        Engine::InProcess => DEFAULT_RUNS,
-        Engine::Distributed => DEFAULT_RUNS_DISTRIBUTED,
-    });
+    let runs_per = opts.protocol.runs_per(DEFAULT_RUNS, DEFAULT_RUNS_DISTRIBUTED);
     // Before any run: an unwritable --out fails now, not after the runs.
-    let stage = Staging::begin(&opts.out)?;
+    let stage = Staging::begin(&opts.protocol.out)?;
     let world = scenario.world();
     for &n in &opts.robots {
         let starts = contract::start_vertices(&scenario, &world, n)?;
@@ -277,14 +262,7 @@ pub fn run(opts: &RadioOptions) -> Result<(Vec<RadioRow>, String)> {
             eprintln!("{w} (robots {n})");
         }
     }
-    let planned = jobs(opts, runs_per);
-    let job_list: Vec<Job> = planned.iter().map(|(_, _, j)| j.clone()).collect();
-    let setting =
-        Setting { scenario_arg: &opts.scenario, scenario: &scenario, algorithm: opts.algorithm, max_rounds: opts.max_rounds };
-    let started = Instant::now();
-    let results = sweep::execute(opts.engine, &setting, &job_list, opts.progress)?;
-    let wall_time_s = started.elapsed().as_secs_f64();
-    let runs: Vec<(Point, u32, ProtoRun)> = planned.iter().zip(results).map(|((p, r, _), x)| (*p, *r, x)).collect();
+    let (runs, wall_time_s) = opts.protocol.execute(&scenario, &jobs(opts, runs_per))?;
     let rows: Vec<RadioRow> = points(opts)
         .into_iter()
         .map(|p| {
@@ -319,25 +297,25 @@ impl Page<'_> {
             "scenario": self.scenario.name,
             "grid": self.scenario.grid.name(),
             "situation": self.scenario.situation.number(),
-            "algorithm": o.algorithm.name(),
+            "algorithm": o.protocol.algorithm.name(),
             "loss": o.loss,
             "robots": o.robots,
             "retries": o.retries,
             "runs": self.runs_per,
-            "seed": o.seed,
+            "seed": o.protocol.seed,
             "seed_derivation": "run r with N robots has seed derive(derive(seed, N), r) with gridswarm::rng::derive, \
                 the same for every loss and retries value (paired runs)",
             "radio": "loss P per transmission per link; no extra delay, jitter or duplication",
             "reproduce": format!(
                 "gridswarm simulate --scenario {} --situation {} --algorithm {} --robots N --seed SEED --loss P \
                  --retries R --max-rounds {} (from radio-runs.csv)",
-                o.scenario,
+                o.protocol.scenario,
                 self.scenario.situation.number(),
-                o.algorithm,
-                o.max_rounds
+                o.protocol.algorithm,
+                o.protocol.max_rounds
             ),
-            "max_rounds": o.max_rounds,
-            "engine": o.engine.describe(),
+            "max_rounds": o.protocol.max_rounds,
+            "engine": o.protocol.engine.describe(),
             "statistics": "search time (mean ± 1.96 std/sqrt(n)) over completed runs; counts are means per run over \
                 all runs; collisions per 10^6 moves pool every run's collisions and moves",
             "params": self.scenario.params,
@@ -349,8 +327,12 @@ impl Page<'_> {
         output::write_text(&out.join("radio.csv"), &csv(self.rows))?;
         output::write_text(&out.join("radio-runs.csv"), &runs_csv(self.runs))?;
         let svg_path = out.join("radio.svg");
-        let title = format!("{}: {}, {} runs per point, loss per transmission per link", self.scenario.name, self.opts.algorithm, self.runs_per);
-        let svg = figure(self.rows, &self.opts.loss, &title).map_err(|message| Error::Plot { path: svg_path.clone(), message })?;
+        let title = format!(
+            "{}: {}, {} runs per point, loss per transmission per link",
+            self.scenario.name, self.opts.protocol.algorithm, self.runs_per
+        );
+        let svg = figure(self.rows, &self.opts.loss, &title)
+            .map_err(|message| Error::Plot { path: svg_path.clone(), message })?;
         output::write_text(&svg_path, &svg)?;
         output::write_text(&out.join("report.html"), &report::render(&self.report(svg)))
     }
@@ -363,10 +345,10 @@ impl Page<'_> {
                 "{} points, {} runs each, base seed {}; {} runs in {:.1} s wall time ({})",
                 self.rows.len(),
                 self.runs_per,
-                self.opts.seed,
+                self.opts.protocol.seed,
                 self.runs.len(),
                 self.wall_time_s,
-                self.opts.engine.describe()
+                self.opts.protocol.engine.describe()
             ),
             sections: vec![
                 Section::new(
@@ -393,14 +375,14 @@ impl Page<'_> {
             "radio: scenario {}, algorithm {}, {} runs per point, base seed {}, engine {}\n{}\n\
              {} runs in {:.1} s; wrote radio.csv, radio-runs.csv, radio.svg, report.html in {}\n",
             self.scenario.name,
-            self.opts.algorithm,
+            self.opts.protocol.algorithm,
             self.runs_per,
-            self.opts.seed,
-            self.opts.engine.name(),
+            self.opts.protocol.seed,
+            self.opts.protocol.engine.name(),
             text_table(&table(self.rows)),
             self.runs.len(),
             self.wall_time_s,
-            self.opts.out.display()
+            self.opts.protocol.out.display()
         )
     }
 }
@@ -408,6 +390,9 @@ impl Page<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sweep::Engine;
+    use gridswarm::policy::Policy;
+    use std::path::PathBuf;
 
     #[test]
     fn lists_parse() {
@@ -419,12 +404,9 @@ mod tests {
 
     #[test]
     fn seeds_pair_runs_across_loss_and_retries() {
-        let opts = RadioOptions {
+        let protocol = ProtocolOptions {
             scenario: "paper".into(),
             algorithm: Policy::Repulsive,
-            loss: vec![0.0, 0.2],
-            robots: vec![3],
-            retries: vec![0, 1],
             runs: Some(2),
             seed: 5,
             situation: None,
@@ -433,6 +415,7 @@ mod tests {
             out: PathBuf::new(),
             progress: false,
         };
+        let opts = RadioOptions { protocol, loss: vec![0.0, 0.2], robots: vec![3], retries: vec![0, 1] };
         let j = jobs(&opts, 2);
         assert_eq!(j.len(), 8);
         assert!(j.iter().all(|(_, r, job)| job.seed == run_seed(5, 3, u64::from(*r))));

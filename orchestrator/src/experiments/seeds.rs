@@ -11,11 +11,11 @@
 
 use gridswarm::rng::derive;
 
-/// The seed of run `k` with `robots` robots in a sweep with base seed
-/// `base`, derived with the shared crate's [`derive`] like every other seed
-/// of the project.
-pub fn run_seed(base: u64, robots: usize, k: u64) -> u64 {
-    derive(derive(base, robots as u64), k)
+/// The seed of run `k` of a sweep's cell `cell` (its robot count; in
+/// `experiment failures`, the number killed) with base seed `base`, derived
+/// with the shared crate's [`derive`] like every other seed of the project.
+pub fn run_seed(base: u64, cell: usize, k: u64) -> u64 {
+    derive(derive(base, cell as u64), k)
 }
 
 #[cfg(test)]

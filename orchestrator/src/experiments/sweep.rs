@@ -5,16 +5,19 @@
 //! Both give the same [`ProtoRun`]s for the same jobs.
 
 use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
 
 use gridswarm::grid::VertexId;
 use gridswarm::outcome::RunConfig;
+use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
 use gridswarm::scenario::Scenario;
 use gridswarm::world::World;
 use rayon::prelude::*;
 
 use crate::contract::{self, Runner};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::experiment::progress_bar;
 use crate::faults::{FaultPlan, RunBase};
 use crate::run;
@@ -47,8 +50,69 @@ impl Engine {
     }
 }
 
+/// What the protocol experiments take besides their own axes (the number
+/// killed, the losses and retries).
+#[derive(Clone, Debug)]
+pub struct ProtocolOptions {
+    pub scenario: String,
+    pub algorithm: Policy,
+    /// Runs per point; the experiment's default for the engine when `None`.
+    pub runs: Option<u32>,
+    pub seed: u64,
+    pub situation: Option<Situation>,
+    pub max_rounds: u32,
+    pub engine: Engine,
+    pub out: PathBuf,
+    pub progress: bool,
+}
+
+impl ProtocolOptions {
+    /// The shared options checked and the scenario loaded, with the
+    /// situation asked for; `what` names the experiment in errors.
+    pub fn load(&self, what: &str) -> Result<Scenario> {
+        if self.runs == Some(0) {
+            return Err(Error::Input("--runs must be at least 1".into()));
+        }
+        if !self.algorithm.on_grid() {
+            return Err(Error::Usage(format!(
+                "`experiment {what}` needs the radio protocol of the grid policies; `{}` moves off the grid",
+                self.algorithm
+            )));
+        }
+        let mut scenario = contract::load_scenario(&self.scenario)?;
+        if let Some(s) = self.situation {
+            scenario.situation = s;
+        }
+        Ok(scenario)
+    }
+
+    /// Runs per point: `--runs`, or the experiment's default for the engine.
+    pub fn runs_per(&self, in_process: u32, distributed: u32) -> u32 {
+        self.runs.unwrap_or(match self.engine {
+            Engine::InProcess => in_process,
+            Engine::Distributed => distributed,
+        })
+    }
+
+    /// Runs the planned jobs, each `(point, run, job)`; returns each run's
+    /// figures with its point and run index, and the wall time in seconds.
+    pub fn execute<K: Copy>(
+        &self,
+        scenario: &Scenario,
+        planned: &[(K, u32, Job)],
+    ) -> Result<(Vec<(K, u32, ProtoRun)>, f64)> {
+        let jobs: Vec<Job> = planned.iter().map(|(_, _, j)| j.clone()).collect();
+        let setting =
+            Setting { scenario_arg: &self.scenario, scenario, algorithm: self.algorithm, max_rounds: self.max_rounds };
+        let started = Instant::now();
+        let results = execute(self.engine, &setting, &jobs, self.progress)?;
+        let wall_time_s = started.elapsed().as_secs_f64();
+        Ok((planned.iter().zip(results).map(|((k, r, _), p)| (*k, *r, p)).collect(), wall_time_s))
+    }
+}
+
 /// What every run of an experiment shares.
-pub struct Setting<'a> {
+struct Setting<'a> {
     /// The name or path the user gave (distributed runs load it again).
     pub scenario_arg: &'a str,
     /// Loaded, with the situation asked for.
@@ -69,7 +133,7 @@ pub struct Job {
 
 /// Runs every job; results in job order. Checks every job's plan first,
 /// so a bad one fails before any run.
-pub fn execute(engine: Engine, setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<ProtoRun>> {
+fn execute(engine: Engine, setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<ProtoRun>> {
     for j in jobs {
         j.plan.check(setting.algorithm, j.robots)?;
     }
@@ -150,7 +214,8 @@ fn distributed(setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<Pr
             out: None,
             json: true,
         };
-        let v = run::execute_as(&j.plan.run_options(base), &j.what, &mut warnings).inspect_err(|_| bar.finish_and_clear())?;
+        let v = run::execute_as(&j.plan.run_options(base), &j.what, &mut warnings)
+            .inspect_err(|_| bar.finish_and_clear())?;
         runs.push(ProtoRun::from_summary(j.seed, &v));
         bar.inc(1);
     }
