@@ -41,9 +41,9 @@ use crate::grid::{Grid, VertexId};
 use crate::map::{Map, RobotId};
 use crate::params::{Params, Situation};
 use crate::policy::Policy;
-use crate::protocol::Frame;
+use crate::protocol::{Frame, KIND_ACK, KIND_COMMIT};
 use crate::robot::{Robot, RobotConfig, Sensing};
-use crate::sim::{micros, Motor, Note, Output, Tick, Time, Transmit};
+use crate::sim::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
 
 /// The protocol's clock settings, in simulated microseconds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -242,20 +242,42 @@ impl<'g> Peer<'g> {
         if self.phase == Phase::Choosing {
             self.progress(now, out);
         }
-        let (alarm, listen) = match self.phase {
-            Phase::Exchange => (Some(self.window_end), false),
-            Phase::Choosing if self.has_chosen() => {
-                let wake = match self.listen_until() {
-                    Some(l) if l > now => self.ack_deadline.min(l),
-                    _ => self.ack_deadline,
-                };
-                (Some(wake), true)
-            }
-            Phase::Choosing => (Some(self.deadline), true),
-            _ => (None, false),
+        let alarm = match self.phase {
+            Phase::Exchange => Some(self.window_end),
+            Phase::Choosing if self.has_chosen() => match self.listen_until() {
+                Some(l) if l > now => Some(self.ack_deadline.min(l)),
+                _ => Some(self.ack_deadline),
+            },
+            Phase::Choosing => Some(self.deadline),
+            _ => None,
         };
         out.alarm = alarm;
-        out.listen = listen;
+        out.listen = if self.phase == Phase::Choosing { self.filter() } else { Listen::OFF };
+    }
+
+    /// Which frames should wake it while it chooses and waits for answers.
+    ///
+    /// Acks and commits of this round change nothing it does until its
+    /// next wake-up unless they come from a robot it heard this slot (the
+    /// only ones whose acks `acks` reads), after it chose (before, its
+    /// choice depends on maps and choices only, and no alarm-free wake-up
+    /// could tell a later time from an earlier: every time it compares
+    /// `now` with is an alarm), and, for a commit, from the robot on the
+    /// vertex it chose (the only commit `acks` reads). Those are held: the
+    /// radio hands them over, in order, with whatever wakes it next, so it
+    /// reads every frame in the same order and to the same effect, and
+    /// only its idle wake-ups are gone. Reading a frame changes nothing
+    /// but what it records of the sender (`on_frame`); frames of another
+    /// round, maps, choices and floods always wake it.
+    fn filter(&self) -> Listen {
+        let mut except = 0;
+        if let Some(c) = self.robot.as_ref().and_then(Robot::choice) {
+            let _ = c;
+            for h in self.heard.iter().filter(|h| !h.halted) {
+                except |= Listen::sender_bit(h.id);
+            }
+        }
+        Listen { on: true, round: self.round, hold: 1 << KIND_ACK | 1 << KIND_COMMIT, except }
     }
 
     fn send(&self, out: &mut Output<Frame>, frame: Frame, ready: Time) {

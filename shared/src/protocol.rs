@@ -7,10 +7,13 @@
 //! What each frame means is the robot's radio protocol ([`crate::peer`]);
 //! the medium that carries frames never looks inside one.
 
+use std::rc::Rc;
+
 use serde::{Deserialize, Serialize};
 
 use crate::grid::VertexId;
 use crate::map::{Map, RobotId};
+use crate::sim::{Framed, Header};
 
 /// Robot-to-robot frames, all broadcast to whoever is in radio range. Every
 /// one carries its round, so frames of another round can be told apart and dropped.
@@ -56,6 +59,19 @@ impl Frame {
         }
     }
 
+    /// Its header: the kind (its variant's index, [`KIND_MAP`]..) and
+    /// round, which also open its encoding ([`header_of`]).
+    pub fn header(&self) -> Header {
+        let kind = match self {
+            Frame::Map { .. } => KIND_MAP,
+            Frame::Choice { .. } => KIND_CHOICE,
+            Frame::Ack { .. } => KIND_ACK,
+            Frame::Commit { .. } => KIND_COMMIT,
+            Frame::Flood { .. } => KIND_FLOOD,
+        };
+        Header { kind, round: self.round() }
+    }
+
     /// A short name for counts and logs.
     pub fn kind(&self) -> &'static str {
         match self {
@@ -65,6 +81,33 @@ impl Frame {
             Frame::Commit { .. } => "commit",
             Frame::Flood { .. } => "flood",
         }
+    }
+}
+
+/// Frame kinds in a [`Header`]: the variants' indices, in order.
+pub const KIND_MAP: u8 = 0;
+pub const KIND_CHOICE: u8 = 1;
+pub const KIND_ACK: u8 = 2;
+pub const KIND_COMMIT: u8 = 3;
+pub const KIND_FLOOD: u8 = 4;
+
+/// The header at the start of an encoded frame (postcard writes the
+/// variant's index, then the first field, the round), read without
+/// decoding the rest; `None` if even that much is not there.
+pub fn header_of(bytes: &[u8]) -> Option<Header> {
+    let ((kind, round), _) = postcard::take_from_bytes::<(u32, u32)>(bytes).ok()?;
+    Some(Header { kind: u8::try_from(kind).ok()?, round })
+}
+
+impl Framed for Rc<Frame> {
+    fn header(&self) -> Option<Header> {
+        Some(Frame::header(self))
+    }
+}
+
+impl Framed for Rc<[u8]> {
+    fn header(&self) -> Option<Header> {
+        header_of(self)
     }
 }
 
@@ -184,6 +227,19 @@ mod tests {
         for f in frames() {
             assert_eq!(decode(&encode(&f), &LIMITS), Ok(f));
         }
+    }
+
+    #[test]
+    fn a_header_reads_the_same_from_the_frame_and_from_its_bytes() {
+        let kinds: Vec<u8> = frames().iter().map(|f| f.header().kind).collect();
+        assert_eq!(kinds, [KIND_MAP, KIND_CHOICE, KIND_ACK, KIND_COMMIT, KIND_FLOOD]);
+        for f in frames() {
+            assert_eq!(header_of(&encode(&f)), Some(f.header()), "{f:?}");
+        }
+        let big = Frame::Commit { round: 70_000, from: 2, moving: false };
+        assert_eq!(header_of(&encode(&big)), Some(Header { kind: KIND_COMMIT, round: 70_000 }));
+        assert_eq!(header_of(&[]), None);
+        assert_eq!(header_of(&[2]), None, "a kind without its round");
     }
 
     #[test]

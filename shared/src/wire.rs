@@ -14,7 +14,7 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 
 use crate::map::RobotId;
-use crate::sim::{Motor, Note, Tick, Time};
+use crate::sim::{Listen, Motor, Note, Tick, Time};
 
 /// Bytes, serialized as one postcard byte string (length and bytes, copied
 /// in one go) rather than element by element.
@@ -94,7 +94,7 @@ pub struct AgentOutput {
     pub send: Vec<WireSend>,
     pub motor: Option<(Motor, Time)>,
     pub alarm: Option<Time>,
-    pub listen: bool,
+    pub listen: Listen,
     pub notes: Vec<Note>,
 }
 
@@ -375,7 +375,7 @@ mod tests {
             send: vec![WireSend { bytes: Bytes(vec![9; 300]), ready: 1_600_000, copies: 2 }],
             motor: Some((Motor::Go(42), 1_700_000)),
             alarm: Some(2_000_000),
-            listen: true,
+            listen: Listen::ALL,
             notes: vec![Note::Declared { robot: 4 }, Note::Unsure],
         })
     }

@@ -8,7 +8,10 @@
 //!
 //! - keeps the clock: slot `k` starts with every robot's sensor readings
 //!   ([`Tick`]); a robot asks to be woken at a time ([`Output::alarm`]) and,
-//!   if it [`Output::listen`]s, when a frame reaches it;
+//!   if it [`Output::listen`]s, when a frame reaches it that its receive
+//!   filter lets through ([`Listen`]); the radio holds the others in the
+//!   robot's receive buffer and hands them over, in arrival order, at its
+//!   next wake-up;
 //! - carries frames ([`medium`]): to every robot within `r_c` of the sender,
 //!   after the frame's latency, lost, delayed or duplicated as the run's
 //!   radio settings say, every draw a pure function of the seed;
@@ -132,14 +135,15 @@ pub struct Output<P> {
     pub motor: Option<(Motor, Time)>,
     /// When to wake it next (replaces any earlier alarm; `None` cancels).
     pub alarm: Option<Time>,
-    /// Whether a frame reaching it should wake it.
-    pub listen: bool,
+    /// Which frames reaching it should wake it (the others wait for its
+    /// next wake-up).
+    pub listen: Listen,
     pub notes: Vec<Note>,
 }
 
 impl<P> Default for Output<P> {
     fn default() -> Self {
-        Output { send: Vec::new(), motor: None, alarm: None, listen: false, notes: Vec::new() }
+        Output { send: Vec::new(), motor: None, alarm: None, listen: Listen::OFF, notes: Vec::new() }
     }
 }
 
@@ -148,8 +152,65 @@ impl<P> Output<P> {
         self.send.clear();
         self.motor = None;
         self.alarm = None;
-        self.listen = false;
+        self.listen = Listen::OFF;
         self.notes.clear();
+    }
+}
+
+/// What a radio can read of a frame without its payload: the header the
+/// robot wrote when it transmitted (the frame kind and round it stamped),
+/// or `None` when there is none to read. The world uses it for nothing
+/// but a receiver's [`Listen`] filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Header {
+    pub kind: u8,
+    pub round: u32,
+}
+
+/// A frame as the radio carries it: opaque, but with a header.
+pub trait Framed {
+    fn header(&self) -> Option<Header>;
+}
+
+/// A robot's receive filter, its own setting (as a radio's address filter,
+/// or a sleeping processor whose radio buffers frames): whether a frame
+/// reaching it wakes it, or waits in its receive buffer for its next
+/// wake-up. Frames of round `round` whose kind is in `hold` wait, unless
+/// their transmitter is in `except`; every other frame wakes it. A robot
+/// sets it so that a frame held back is one whose earlier reading would not
+/// have changed anything it did (the protocol argues it, `crate::peer`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Listen {
+    /// Whether frames may wake it at all (off: every frame waits).
+    pub on: bool,
+    pub round: u32,
+    /// Frame kinds held, one bit a kind ([`Header::kind`]).
+    pub hold: u8,
+    /// Transmitters whose held kinds wake it all the same: bit `id % 64`
+    /// per robot, so two robots may share a bit and a frame may wake it
+    /// needlessly, never the other way.
+    pub except: u64,
+}
+
+impl Listen {
+    /// Nothing wakes it.
+    pub const OFF: Listen = Listen { on: false, round: 0, hold: 0, except: 0 };
+    /// Every frame wakes it.
+    pub const ALL: Listen = Listen { on: true, round: 0, hold: 0, except: 0 };
+
+    /// The bit of transmitter `id` in [`Listen::except`].
+    pub fn sender_bit(id: RobotId) -> u64 {
+        1 << (id % 64)
+    }
+
+    /// Whether a frame from `from` with header `h` wakes the robot.
+    pub fn wakes(&self, from: RobotId, h: Option<Header>) -> bool {
+        if !self.on {
+            return false;
+        }
+        let Some(h) = h else { return true };
+        let held = h.round == self.round && h.kind < 8 && self.hold >> h.kind & 1 == 1;
+        !held || self.except & Self::sender_bit(from) != 0
     }
 }
 
