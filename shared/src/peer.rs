@@ -270,11 +270,13 @@ impl<'g> Peer<'g> {
     /// but what it records of the sender (`on_frame`); frames of another
     /// round, maps, choices and floods always wake it.
     fn filter(&self) -> Listen {
-        let mut except = 0;
+        let mut except = [0; 8];
         if let Some(c) = self.robot.as_ref().and_then(Robot::choice) {
-            let _ = c;
             for h in self.heard.iter().filter(|h| !h.halted) {
-                except |= Listen::sender_bit(h.id);
+                except[KIND_ACK as usize] |= Listen::sender_bit(h.id);
+                if h.at == c {
+                    except[KIND_COMMIT as usize] |= Listen::sender_bit(h.id);
+                }
             }
         }
         Listen { on: true, round: self.round, hold: 1 << KIND_ACK | 1 << KIND_COMMIT, except }

@@ -176,27 +176,28 @@ pub trait Framed {
 /// or a sleeping processor whose radio buffers frames): whether a frame
 /// reaching it wakes it, or waits in its receive buffer for its next
 /// wake-up. Frames of round `round` whose kind is in `hold` wait, unless
-/// their transmitter is in `except`; every other frame wakes it. A robot
-/// sets it so that a frame held back is one whose earlier reading would not
-/// have changed anything it did (the protocol argues it, `crate::peer`).
+/// their transmitter is among that kind's `except`; every other frame wakes
+/// it. A robot sets it so that a frame held back is one whose earlier
+/// reading would not have changed anything it did (the protocol argues
+/// it, `crate::peer`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Listen {
     /// Whether frames may wake it at all (off: every frame waits).
     pub on: bool,
     pub round: u32,
-    /// Frame kinds held, one bit a kind ([`Header::kind`]).
+    /// Frame kinds held, one bit a kind ([`Header::kind`], below 8).
     pub hold: u8,
-    /// Transmitters whose held kinds wake it all the same: bit `id % 64`
-    /// per robot, so two robots may share a bit and a frame may wake it
-    /// needlessly, never the other way.
-    pub except: u64,
+    /// For each kind, the transmitters whose frames of that kind wake it
+    /// all the same: bit `id % 64` per robot, so two robots may share a
+    /// bit and a frame may wake it needlessly, never the other way.
+    pub except: [u64; 8],
 }
 
 impl Listen {
     /// Nothing wakes it.
-    pub const OFF: Listen = Listen { on: false, round: 0, hold: 0, except: 0 };
+    pub const OFF: Listen = Listen { on: false, round: 0, hold: 0, except: [0; 8] };
     /// Every frame wakes it.
-    pub const ALL: Listen = Listen { on: true, round: 0, hold: 0, except: 0 };
+    pub const ALL: Listen = Listen { on: true, round: 0, hold: 0, except: [0; 8] };
 
     /// The bit of transmitter `id` in [`Listen::except`].
     pub fn sender_bit(id: RobotId) -> u64 {
@@ -209,8 +210,9 @@ impl Listen {
             return false;
         }
         let Some(h) = h else { return true };
-        let held = h.round == self.round && h.kind < 8 && self.hold >> h.kind & 1 == 1;
-        !held || self.except & Self::sender_bit(from) != 0
+        let k = h.kind as usize;
+        let held = h.round == self.round && k < 8 && self.hold >> k & 1 == 1;
+        !held || self.except[k] & Self::sender_bit(from) != 0
     }
 }
 
