@@ -26,6 +26,8 @@
 //! ([`crate::engine`]) or processes (`world-server`).
 
 pub mod kernel;
+#[cfg(test)]
+mod listen_tests;
 pub mod medium;
 pub mod schedule;
 pub mod stats;
