@@ -41,7 +41,7 @@ use crate::grid::{Grid, VertexId};
 use crate::map::{Map, RobotId};
 use crate::params::{Params, Situation};
 use crate::policy::Policy;
-use crate::protocol::{Frame, KIND_ACK, KIND_COMMIT};
+use crate::protocol::{Frame, KIND_ACK, KIND_COMMIT, KIND_FLOOD};
 use crate::robot::{Robot, RobotConfig, Sensing};
 use crate::sim::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
 
@@ -257,29 +257,30 @@ impl<'g> Peer<'g> {
 
     /// Which frames should wake it while it chooses and waits for answers.
     ///
-    /// Acks and commits of this round change nothing it does until its
-    /// next wake-up unless they come from a robot it heard this slot (the
-    /// only ones whose acks `acks` reads), after it chose (before, its
-    /// choice depends on maps and choices only, and no alarm-free wake-up
-    /// could tell a later time from an earlier: every time it compares
-    /// `now` with is an alarm), and, for a commit, from the robot on the
-    /// vertex it chose (the only commit `acks` reads). Those are held: the
-    /// radio hands them over, in order, with whatever wakes it next, so it
-    /// reads every frame in the same order and to the same effect, and
-    /// only its idle wake-ups are gone. Reading a frame changes nothing
-    /// but what it records of the sender (`on_frame`); frames of another
-    /// round, maps, choices and floods always wake it.
+    /// Held, of this round: acks, unless addressed to it after it chose
+    /// (an ack changes nothing but whether the sender acked or refused
+    /// this robot, which it reads only once it chose); commits, unless,
+    /// after it chose, from a robot it heard on the vertex it chose (the
+    /// only commit it reads); floods that carry only targets it has
+    /// flooded already and no stop (it would learn and relay nothing).
+    /// Reading a held frame later, before the frames that came after it,
+    /// leaves it as reading it on arrival would have: the radio hands them
+    /// over, in order, with whatever wakes it next. And a wake-up with
+    /// nothing new to read could not have made it act either: its choice
+    /// depends on maps and choices only, and every time it compares `now`
+    /// with is one of its alarms. Maps, choices and frames of another
+    /// round always wake it.
     fn filter(&self) -> Listen {
-        let mut except = [0; 8];
+        let (mut except, mut tags) = ([0; 8], [0; 8]);
         if let Some(c) = self.robot.as_ref().and_then(Robot::choice) {
-            for h in self.heard.iter().filter(|h| !h.halted) {
-                except[KIND_ACK as usize] |= Listen::sender_bit(h.id);
-                if h.at == c {
-                    except[KIND_COMMIT as usize] |= Listen::sender_bit(h.id);
-                }
+            tags[KIND_ACK as usize] = Listen::bit(self.id());
+            for h in self.heard.iter().filter(|h| !h.halted && h.at == c) {
+                except[KIND_COMMIT as usize] |= Listen::bit(h.id);
             }
         }
-        Listen { on: true, round: self.round, hold: 1 << KIND_ACK | 1 << KIND_COMMIT, except }
+        let flooded = (0..63).filter(|&t| self.flooded.get(t)).fold(0, |m, t| m | 1 << t);
+        tags[KIND_FLOOD as usize] = !flooded;
+        Listen { on: true, round: self.round, hold: 1 << KIND_ACK | 1 << KIND_COMMIT | 1 << KIND_FLOOD, except, tags }
     }
 
     fn send(&self, out: &mut Output<Frame>, frame: Frame, ready: Time) {

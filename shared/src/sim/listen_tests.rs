@@ -68,10 +68,11 @@ fn the_filter_only_removes_wake_ups() {
 }
 
 #[test]
-fn a_held_kind_wakes_only_for_its_exceptions_and_only_in_its_round() {
-    let mut l = Listen { on: true, round: 5, hold: 1 << KIND_ACK | 1 << KIND_COMMIT, except: [0; 8] };
-    l.except[KIND_ACK as usize] = Listen::sender_bit(3);
-    let h = |kind, round| Some(Header { kind, round });
+fn a_held_kind_wakes_only_for_its_exceptions_and_tags_and_only_in_its_round() {
+    let mut l = Listen { on: true, round: 5, hold: 1 << KIND_ACK | 1 << KIND_COMMIT, ..Listen::OFF };
+    l.except[KIND_ACK as usize] = Listen::bit(3);
+    l.tags[KIND_COMMIT as usize] = 1 << 9;
+    let h = |kind, round| Some(Header { kind, round, tag: 1 << 2 });
     assert!(!l.wakes(1, h(KIND_ACK, 5)));
     assert!(l.wakes(3, h(KIND_ACK, 5)), "an exception");
     assert!(l.wakes(67, h(KIND_ACK, 5)), "shares robot 3's bit: woken needlessly, never held wrongly");
@@ -80,6 +81,8 @@ fn a_held_kind_wakes_only_for_its_exceptions_and_only_in_its_round() {
     assert!(l.wakes(1, h(0, 5)), "a kind not held");
     assert!(l.wakes(1, h(200, 5)), "an unknown kind");
     assert!(l.wakes(1, None), "no header to read");
+    assert!(l.wakes(1, Some(Header { kind: KIND_COMMIT, round: 5, tag: 1 << 9 })), "a tag it wakes for");
+    assert!(!l.wakes(1, Some(Header { kind: KIND_ACK, round: 5, tag: 1 << 9 })), "tags are per kind");
     assert!(!Listen::OFF.wakes(1, h(0, 5)) && !Listen::OFF.wakes(1, None));
     assert!(Listen::ALL.wakes(1, h(KIND_ACK, 0)));
 }

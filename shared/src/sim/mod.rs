@@ -160,13 +160,15 @@ impl<P> Output<P> {
 }
 
 /// What a radio can read of a frame without its payload: the header the
-/// robot wrote when it transmitted (the frame kind and round it stamped),
-/// or `None` when there is none to read. The world uses it for nothing
-/// but a receiver's [`Listen`] filter.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// robot wrote at the frame's start when it transmitted (its kind and
+/// round, and a tag of 64 bits the protocol fills, e.g. with its
+/// addressees), or `None` when there is none to read. The world uses it
+/// for nothing but a receiver's [`Listen`] filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Header {
     pub kind: u8,
     pub round: u32,
+    pub tag: u64,
 }
 
 /// A frame as the radio carries it: opaque, but with a header.
@@ -177,11 +179,11 @@ pub trait Framed {
 /// A robot's receive filter, its own setting (as a radio's address filter,
 /// or a sleeping processor whose radio buffers frames): whether a frame
 /// reaching it wakes it, or waits in its receive buffer for its next
-/// wake-up. Frames of round `round` whose kind is in `hold` wait, unless
-/// their transmitter is among that kind's `except`; every other frame wakes
-/// it. A robot sets it so that a frame held back is one whose earlier
-/// reading would not have changed anything it did (the protocol argues
-/// it, `crate::peer`).
+/// wake-up. Frames of round `round` whose kind `k` is in `hold` wait,
+/// unless their transmitter is among `except[k]` or their header's tag
+/// shares a bit with `tags[k]`; every other frame wakes it. A robot sets it
+/// so that a frame held back is one whose earlier reading would not have
+/// changed anything it did (the protocol argues it, `crate::peer`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Listen {
     /// Whether frames may wake it at all (off: every frame waits).
@@ -189,20 +191,22 @@ pub struct Listen {
     pub round: u32,
     /// Frame kinds held, one bit a kind ([`Header::kind`], below 8).
     pub hold: u8,
-    /// For each kind, the transmitters whose frames of that kind wake it
-    /// all the same: bit `id % 64` per robot, so two robots may share a
+    /// For each kind, the transmitters whose frames wake it all the same:
+    /// bit `id % 64` per robot ([`Listen::bit`]), so two robots may share a
     /// bit and a frame may wake it needlessly, never the other way.
     pub except: [u64; 8],
+    /// For each kind, the header tag bits that wake it all the same.
+    pub tags: [u64; 8],
 }
 
 impl Listen {
     /// Nothing wakes it.
-    pub const OFF: Listen = Listen { on: false, round: 0, hold: 0, except: [0; 8] };
+    pub const OFF: Listen = Listen { on: false, round: 0, hold: 0, except: [0; 8], tags: [0; 8] };
     /// Every frame wakes it.
-    pub const ALL: Listen = Listen { on: true, round: 0, hold: 0, except: [0; 8] };
+    pub const ALL: Listen = Listen { on: true, round: 0, hold: 0, except: [0; 8], tags: [0; 8] };
 
-    /// The bit of transmitter `id` in [`Listen::except`].
-    pub fn sender_bit(id: RobotId) -> u64 {
+    /// The bit of robot `id` in [`Listen::except`] (and in a tag of robots).
+    pub fn bit(id: RobotId) -> u64 {
         1 << (id % 64)
     }
 
@@ -214,7 +218,7 @@ impl Listen {
         let Some(h) = h else { return true };
         let k = h.kind as usize;
         let held = h.round == self.round && k < 8 && self.hold >> k & 1 == 1;
-        !held || self.except[k] & Self::sender_bit(from) != 0
+        !held || self.except[k] & Self::bit(from) != 0 || self.tags[k] & h.tag != 0
     }
 }
 
