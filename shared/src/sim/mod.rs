@@ -2,9 +2,10 @@
 //! engines: the clock, the radio medium, the robots' bodies (sensors,
 //! motors, collisions) and the faults injected into them.
 //!
-//! The world never reads a radio frame (its payload type is opaque here),
-//! never tells a robot anything it did not sense or hear, and never decides
-//! for one. What it does:
+//! The world never reads a radio frame (its payload type is opaque here)
+//! beyond the header its sender wrote ([`Framed`]), never tells a robot
+//! anything it did not sense or hear, and never decides for one. What it
+//! does:
 //!
 //! - keeps the clock: slot `k` starts with every robot's sensor readings
 //!   ([`Tick`]); a robot asks to be woken at a time ([`Output::alarm`]) and,
