@@ -138,6 +138,9 @@ pub fn encode_wake_into(w: &WakeRef, out: &mut Vec<u8>) {
 }
 
 /// Agent to world.
+// Outputs are nearly every message (a hello is one an agent): boxing them
+// would cost an allocation each to save memory on the rare hello.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ToWorld {
     /// The agent is up: its robot number and process id.
