@@ -43,7 +43,9 @@ use crate::params::{Params, Situation};
 use crate::policy::Policy;
 use crate::protocol::Frame;
 use crate::robot::{Robot, RobotConfig, Sensing};
-use crate::sim::{micros, Motor, Note, Output, Tick, Time, Transmit};
+use crate::sim::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
+
+mod filter;
 
 /// The protocol's clock settings, in simulated microseconds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -242,20 +244,17 @@ impl<'g> Peer<'g> {
         if self.phase == Phase::Choosing {
             self.progress(now, out);
         }
-        let (alarm, listen) = match self.phase {
-            Phase::Exchange => (Some(self.window_end), false),
-            Phase::Choosing if self.has_chosen() => {
-                let wake = match self.listen_until() {
-                    Some(l) if l > now => self.ack_deadline.min(l),
-                    _ => self.ack_deadline,
-                };
-                (Some(wake), true)
-            }
-            Phase::Choosing => (Some(self.deadline), true),
-            _ => (None, false),
+        let alarm = match self.phase {
+            Phase::Exchange => Some(self.window_end),
+            Phase::Choosing if self.has_chosen() => match self.listen_until() {
+                Some(l) if l > now => Some(self.ack_deadline.min(l)),
+                _ => Some(self.ack_deadline),
+            },
+            Phase::Choosing => Some(self.deadline),
+            _ => None,
         };
         out.alarm = alarm;
-        out.listen = listen;
+        out.listen = if self.phase == Phase::Choosing { self.filter() } else { Listen::OFF };
     }
 
     fn send(&self, out: &mut Output<Frame>, frame: Frame, ready: Time) {

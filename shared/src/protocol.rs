@@ -7,10 +7,13 @@
 //! What each frame means is the robot's radio protocol ([`crate::peer`]);
 //! the medium that carries frames never looks inside one.
 
+use std::rc::Rc;
+
 use serde::{Deserialize, Serialize};
 
 use crate::grid::VertexId;
 use crate::map::{Map, RobotId};
+use crate::sim::{Framed, Header, Listen};
 
 /// Robot-to-robot frames, all broadcast to whoever is in radio range. Every
 /// one carries its round, so frames of another round can be told apart and dropped.
@@ -56,6 +59,24 @@ impl Frame {
         }
     }
 
+    /// Its header ([`encode`] writes it first): the kind ([`KIND_MAP`]..)
+    /// and round, and a tag for receive filters: an ack's addressees (bit
+    /// `id % 64` each, [`Listen::bit`]), a flood's targets (bit `t` for
+    /// `t < 63`; bit 63 for a stop or any other target), 0 otherwise.
+    pub fn header(&self) -> Header {
+        let (kind, tag) = match self {
+            Frame::Map { .. } => (KIND_MAP, 0),
+            Frame::Choice { .. } => (KIND_CHOICE, 0),
+            Frame::Ack { acked, refused, .. } => (KIND_ACK, acked.iter().chain(refused).fold(0, |t, &r| t | Listen::bit(r))),
+            Frame::Commit { .. } => (KIND_COMMIT, 0),
+            Frame::Flood { targets, stop, .. } => {
+                let tag = targets.iter().fold(0, |t, &x| t | if x < 63 { 1 << x } else { FLOOD_OTHER });
+                (KIND_FLOOD, if *stop { tag | FLOOD_OTHER } else { tag })
+            }
+        };
+        Header { kind, round: self.round(), tag }
+    }
+
     /// A short name for counts and logs.
     pub fn kind(&self) -> &'static str {
         match self {
@@ -65,6 +86,34 @@ impl Frame {
             Frame::Commit { .. } => "commit",
             Frame::Flood { .. } => "flood",
         }
+    }
+}
+
+/// Frame kinds in a [`Header`]: the variants' indices, in order.
+pub const KIND_MAP: u8 = 0;
+pub const KIND_CHOICE: u8 = 1;
+pub const KIND_ACK: u8 = 2;
+pub const KIND_COMMIT: u8 = 3;
+pub const KIND_FLOOD: u8 = 4;
+
+/// A flood's tag bit for a stop, or a target of 63 or more.
+pub const FLOOD_OTHER: u64 = 1 << 63;
+
+/// The header at the start of an encoded frame, read without decoding the
+/// frame after it; `None` if it is not there.
+pub fn header_of(bytes: &[u8]) -> Option<Header> {
+    postcard::take_from_bytes::<Header>(bytes).ok().map(|(h, _)| h)
+}
+
+impl Framed for Rc<Frame> {
+    fn header(&self) -> Option<Header> {
+        Some(Frame::header(self))
+    }
+}
+
+impl Framed for Rc<[u8]> {
+    fn header(&self) -> Option<Header> {
+        header_of(self)
     }
 }
 
@@ -100,15 +149,23 @@ pub enum DecodeError {
     Range(String),
 }
 
+/// The frame's header ([`Frame::header`]), then the frame.
 pub fn encode(f: &Frame) -> Vec<u8> {
-    postcard::to_allocvec(f).expect("a frame always serializes")
+    let bytes = postcard::to_allocvec(&f.header()).expect("a header always serializes");
+    postcard::to_extend(f, bytes).expect("a frame always serializes")
 }
 
-/// Decodes and validates exactly one frame (no bytes after it).
+/// Decodes and validates exactly one frame (no bytes after it) behind a
+/// header that matches it: a radio may have filtered on that header.
 pub fn decode(bytes: &[u8], limits: &Limits) -> Result<Frame, DecodeError> {
-    let (f, rest) = postcard::take_from_bytes::<Frame>(bytes).map_err(|e| DecodeError::Format(e.to_string()))?;
+    let format = |e: postcard::Error| DecodeError::Format(e.to_string());
+    let (h, rest) = postcard::take_from_bytes::<Header>(bytes).map_err(format)?;
+    let (f, rest) = postcard::take_from_bytes::<Frame>(rest).map_err(format)?;
     if !rest.is_empty() {
         return Err(DecodeError::Format(format!("{} bytes after the frame", rest.len())));
+    }
+    if h != f.header() {
+        return Err(DecodeError::Format(format!("header {h:?} does not match the frame's {:?}", f.header())));
     }
     check(&f, limits)?;
     Ok(f)
@@ -184,6 +241,29 @@ mod tests {
         for f in frames() {
             assert_eq!(decode(&encode(&f), &LIMITS), Ok(f));
         }
+    }
+
+    #[test]
+    fn a_header_reads_the_same_from_the_frame_and_from_its_bytes() {
+        let kinds: Vec<u8> = frames().iter().map(|f| f.header().kind).collect();
+        assert_eq!(kinds, [KIND_MAP, KIND_CHOICE, KIND_ACK, KIND_COMMIT, KIND_FLOOD]);
+        for f in frames() {
+            assert_eq!(header_of(&encode(&f)), Some(f.header()), "{f:?}");
+        }
+        assert_eq!(frames()[2].header().tag, Listen::bit(0) | Listen::bit(4) | Listen::bit(9), "an ack's addressees");
+        assert_eq!(frames()[4].header().tag, 1 | 1 << 8, "a flood's targets");
+        let f = Frame::Flood { round: 70_000, from: 1, targets: vec![2, 63], stop: false };
+        assert_eq!(f.header(), Header { kind: KIND_FLOOD, round: 70_000, tag: 1 << 2 | FLOOD_OTHER });
+        assert_eq!(header_of(&[]), None);
+        assert_eq!(header_of(&[2, 1]), None, "no tag");
+    }
+
+    #[test]
+    fn a_header_that_lies_about_its_frame_is_refused() {
+        let f = &frames()[2];
+        let mut bytes = postcard::to_allocvec(&Header { tag: 0, ..f.header() }).unwrap();
+        bytes.extend(postcard::to_allocvec(f).unwrap());
+        assert!(matches!(decode(&bytes, &LIMITS), Err(DecodeError::Format(e)) if e.contains("does not match")));
     }
 
     #[test]

@@ -14,7 +14,7 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 
 use crate::map::RobotId;
-use crate::sim::{Motor, Note, Tick, Time};
+use crate::sim::{Listen, Motor, Note, Tick, Time};
 
 /// Bytes, serialized as one postcard byte string (length and bytes, copied
 /// in one go) rather than element by element.
@@ -94,7 +94,7 @@ pub struct AgentOutput {
     pub send: Vec<WireSend>,
     pub motor: Option<(Motor, Time)>,
     pub alarm: Option<Time>,
-    pub listen: bool,
+    pub listen: Listen,
     pub notes: Vec<Note>,
 }
 
@@ -138,6 +138,9 @@ pub fn encode_wake_into(w: &WakeRef, out: &mut Vec<u8>) {
 }
 
 /// Agent to world.
+// Outputs are nearly every message (a hello is one an agent): boxing them
+// would cost an allocation each to save memory on the rare hello.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ToWorld {
     /// The agent is up: its robot number and process id.
@@ -375,7 +378,7 @@ mod tests {
             send: vec![WireSend { bytes: Bytes(vec![9; 300]), ready: 1_600_000, copies: 2 }],
             motor: Some((Motor::Go(42), 1_700_000)),
             alarm: Some(2_000_000),
-            listen: true,
+            listen: Listen::ALL,
             notes: vec![Note::Declared { robot: 4 }, Note::Unsure],
         })
     }

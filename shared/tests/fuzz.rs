@@ -16,7 +16,7 @@ use std::time::Duration;
 use gridswarm::map::Map;
 use gridswarm::protocol::{self, Frame, Limits};
 use gridswarm::scenario::{limits, Scenario};
-use gridswarm::sim::{Motor, Note, Tick};
+use gridswarm::sim::{Listen, Motor, Note, Tick};
 use gridswarm::wire::{self, AgentOutput, Assembler, Bytes, ToAgent, ToWorld, Wake, WireFrame, WireLimits, WireSend};
 use proptest::prelude::*;
 use toml::Value;
@@ -375,7 +375,8 @@ fn to_world() -> impl Strategy<Value = ToWorld> {
             prop::collection::vec(send, 0..4),
             prop::option::of((motor, any::<u64>())),
             prop::option::of(any::<u64>()),
-            any::<bool>(),
+            (any::<bool>(), any::<u32>(), any::<u8>(), any::<[u64; 8]>(), any::<[u64; 8]>())
+                .prop_map(|(on, round, hold, except, tags)| Listen { on, round, hold, except, tags }),
             prop::collection::vec(note(), 0..5)
         )
             .prop_map(|(seq, send, motor, alarm, listen, notes)| ToWorld::Output(AgentOutput {

@@ -7,7 +7,7 @@ use std::rc::Rc;
 
 use super::medium::Medium;
 use super::stats::{FailureRecord, ProtocolStats};
-use super::{micros, seconds, Delivery, Fault, FaultKind, Motor, Note, Output, Robots, Tick, Time, WakeCall};
+use super::{micros, seconds, Delivery, Fault, FaultKind, Framed, Listen, Motor, Note, Output, Robots, Tick, Time, WakeCall};
 use crate::geometry::Point;
 use crate::grid::VertexId;
 use crate::map::RobotId;
@@ -89,7 +89,7 @@ impl<P> Queue<P> {
 struct Bot<P> {
     body: Body,
     halted: bool,
-    listen: bool,
+    listen: Listen,
     alarm_gen: u64,
     tick_due: bool,
     marked: bool,
@@ -147,7 +147,7 @@ pub struct Kernel<'w, P> {
     before_next: (Vec<VertexId>, Vec<VertexId>),
 }
 
-impl<'w, P: Clone> Kernel<'w, P> {
+impl<'w, P: Clone + Framed> Kernel<'w, P> {
     pub fn new(world: &'w World, starts: &[VertexId], cfg: &'w RunConfig) -> Self {
         let n = starts.len();
         let p = &world.params;
@@ -160,7 +160,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
             .map(|_| Bot {
                 body: Body::Running,
                 halted: false,
-                listen: false,
+                listen: Listen::OFF,
                 alarm_gen: 0,
                 tick_due: false,
                 marked: false,
@@ -273,10 +273,14 @@ impl<'w, P: Clone> Kernel<'w, P> {
                 robots.slot_started(self.round, self.now);
                 self.begin_slot();
             }
-            Ev::Deliver { to, d } => self.deliver(to, d),
+            Ev::Deliver { to, d } => {
+                let h = d.payload.header();
+                self.deliver(to, d, h);
+            }
             Ev::Broadcast { to, d } => {
+                let h = d.payload.header();
                 for &t in to.iter() {
-                    self.deliver(t, d.clone());
+                    self.deliver(t, d.clone(), h);
                 }
             }
             Ev::Alarm { robot, gen } => {
@@ -311,13 +315,21 @@ impl<'w, P: Clone> Kernel<'w, P> {
         }
     }
 
-    fn deliver(&mut self, to: u32, d: Delivery<P>) {
+    /// Puts a frame in robot `to`'s receive buffer, and wakes it if its
+    /// filter lets the frame's header through.
+    fn deliver(&mut self, to: u32, d: Delivery<P>, h: Option<super::Header>) {
         let b = &mut self.bots[to as usize];
         if b.body == Body::Dead {
             return;
         }
+        // A slow robot reacts `slow` after whatever wakes it, so the frame
+        // that wakes it decides when it reads all the others: a filter
+        // exact for a robot on time is not for it, and the model keeps
+        // waking it for every frame (faults are the world's, not a setting
+        // the robot could know).
+        let wakes = if b.slow > 0 { b.listen.on } else { b.listen.wakes(d.from, h) };
         b.pending.push(d);
-        if b.body == Body::Running && b.listen {
+        if b.body == Body::Running && wakes {
             self.mark(to as usize);
         }
     }
@@ -493,7 +505,7 @@ impl<'w, P: Clone> Kernel<'w, P> {
         let now = self.now;
         if self.trace {
             eprintln!(
-                "{:>10} r{} robot {r}: send {} motor {:?} alarm {:?} listen {} notes {:?}",
+                "{:>10} r{} robot {r}: send {} motor {:?} alarm {:?} listen {:?} notes {:?}",
                 now, self.round, out.send.len(), out.motor, out.alarm, out.listen, out.notes
             );
         }

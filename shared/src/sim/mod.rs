@@ -2,13 +2,17 @@
 //! engines: the clock, the radio medium, the robots' bodies (sensors,
 //! motors, collisions) and the faults injected into them.
 //!
-//! The world never reads a radio frame (its payload type is opaque here),
-//! never tells a robot anything it did not sense or hear, and never decides
-//! for one. What it does:
+//! The world never reads a radio frame (its payload type is opaque here)
+//! beyond the header its sender wrote ([`Framed`]), never tells a robot
+//! anything it did not sense or hear, and never decides for one. What it
+//! does:
 //!
 //! - keeps the clock: slot `k` starts with every robot's sensor readings
 //!   ([`Tick`]); a robot asks to be woken at a time ([`Output::alarm`]) and,
-//!   if it [`Output::listen`]s, when a frame reaches it;
+//!   if it [`Output::listen`]s, when a frame reaches it that its receive
+//!   filter lets through ([`Listen`]); the radio holds the others in the
+//!   robot's receive buffer and hands them over, in arrival order, at its
+//!   next wake-up;
 //! - carries frames ([`medium`]): to every robot within `r_c` of the sender,
 //!   after the frame's latency, lost, delayed or duplicated as the run's
 //!   radio settings say, every draw a pure function of the seed;
@@ -23,6 +27,8 @@
 //! ([`crate::engine`]) or processes (`world-server`).
 
 pub mod kernel;
+#[cfg(test)]
+mod listen_tests;
 pub mod medium;
 pub mod schedule;
 pub mod stats;
@@ -132,14 +138,15 @@ pub struct Output<P> {
     pub motor: Option<(Motor, Time)>,
     /// When to wake it next (replaces any earlier alarm; `None` cancels).
     pub alarm: Option<Time>,
-    /// Whether a frame reaching it should wake it.
-    pub listen: bool,
+    /// Which frames reaching it should wake it (the others wait for its
+    /// next wake-up).
+    pub listen: Listen,
     pub notes: Vec<Note>,
 }
 
 impl<P> Default for Output<P> {
     fn default() -> Self {
-        Output { send: Vec::new(), motor: None, alarm: None, listen: false, notes: Vec::new() }
+        Output { send: Vec::new(), motor: None, alarm: None, listen: Listen::OFF, notes: Vec::new() }
     }
 }
 
@@ -148,8 +155,71 @@ impl<P> Output<P> {
         self.send.clear();
         self.motor = None;
         self.alarm = None;
-        self.listen = false;
+        self.listen = Listen::OFF;
         self.notes.clear();
+    }
+}
+
+/// What a radio can read of a frame without its payload: the header the
+/// robot wrote at the frame's start when it transmitted (its kind and
+/// round, and a tag of 64 bits the protocol fills, e.g. with its
+/// addressees), or `None` when there is none to read. The world uses it
+/// for nothing but a receiver's [`Listen`] filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Header {
+    pub kind: u8,
+    pub round: u32,
+    pub tag: u64,
+}
+
+/// A frame as the radio carries it: opaque, but with a header.
+pub trait Framed {
+    fn header(&self) -> Option<Header>;
+}
+
+/// A robot's receive filter, its own setting (as a radio's address filter,
+/// or a sleeping processor whose radio buffers frames): whether a frame
+/// reaching it wakes it, or waits in its receive buffer for its next
+/// wake-up. Frames of round `round` whose kind `k` is in `hold` wait,
+/// unless their transmitter is among `except[k]` or their header's tag
+/// shares a bit with `tags[k]`; every other frame wakes it. A robot sets it
+/// so that a frame held back is one whose earlier reading would not have
+/// changed anything it did (the protocol argues it, `crate::peer`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Listen {
+    /// Whether frames may wake it at all (off: every frame waits).
+    pub on: bool,
+    pub round: u32,
+    /// Frame kinds held, one bit a kind ([`Header::kind`], below 8).
+    pub hold: u8,
+    /// For each kind, the transmitters whose frames wake it all the same:
+    /// bit `id % 64` per robot ([`Listen::bit`]), so two robots may share a
+    /// bit and a frame may wake it needlessly, never the other way.
+    pub except: [u64; 8],
+    /// For each kind, the header tag bits that wake it all the same.
+    pub tags: [u64; 8],
+}
+
+impl Listen {
+    /// Nothing wakes it.
+    pub const OFF: Listen = Listen { on: false, round: 0, hold: 0, except: [0; 8], tags: [0; 8] };
+    /// Every frame wakes it.
+    pub const ALL: Listen = Listen { on: true, round: 0, hold: 0, except: [0; 8], tags: [0; 8] };
+
+    /// The bit of robot `id` in [`Listen::except`] (and in a tag of robots).
+    pub fn bit(id: RobotId) -> u64 {
+        1 << (id % 64)
+    }
+
+    /// Whether a frame from `from` with header `h` wakes the robot.
+    pub fn wakes(&self, from: RobotId, h: Option<Header>) -> bool {
+        if !self.on {
+            return false;
+        }
+        let Some(h) = h else { return true };
+        let k = h.kind as usize;
+        let held = h.round == self.round && k < 8 && self.hold >> k & 1 == 1;
+        !held || self.except[k] & Self::bit(from) != 0 || self.tags[k] & h.tag != 0
     }
 }
 
