@@ -7,24 +7,37 @@
 //! takes the other's tile whole when its own holds nothing more (or the same), so tiles
 //! that stopped changing end up shared by every robot that knows them.
 //!
+//! The edge masks are not in the tiles. A mask is what a robot senses
+//! standing on a vertex, and that is physics: every map that holds a mask
+//! for `v` holds the same byte. So a tile keeps one bit a vertex, "holds a
+//! mask here", and the bytes live in a [`Masks`] table shared by a group
+//! of maps (every map of an in-process run, see [`SharedMasks`]; a robot
+//! process's own maps), read only under the map's own bit. Tiles went from
+//! 40 words to 12, and merging, which compares and ORs tiles, streams a
+//! third of what it did. The table is a memo, not a channel: a map's
+//! content is what it would be with a table of its own. Filling an entry
+//! nobody holds changes no map; a map that needs another byte where one is
+//! held (maps that disagree about physics: only made up, or hostile from
+//! the wire) first takes a copy of the table for itself.
+//!
 //! In-process, frames carry these tiles by reference; on the wire a map is
 //! the same flat bitsets and bytes as ever ([`super::Map`]'s serde), and a
 //! robot process builds its own tiles from them.
 
+use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
 /// Vertices per tile.
 pub const TILE: usize = 256;
 /// Words of one tile's bitset.
 const BITS: usize = TILE / 64;
-/// Words of one tile's edge masks (a byte per vertex).
-const BYTES: usize = TILE / 8;
 const VISITED: usize = 0;
 const KNOWN: usize = BITS;
-const OPEN: usize = 2 * BITS;
-const WORDS: usize = 2 * BITS + BYTES;
+/// The vertices where the map holds an edge mask (in its [`Masks`]).
+const MASKED: usize = 2 * BITS;
+const WORDS: usize = 3 * BITS;
 
-/// One tile: visited bits, known bits, then a byte of edge masks per vertex.
+/// One tile: visited bits, known bits, masked bits.
 #[derive(Clone, Debug, PartialEq, Eq)]
 struct Tile([u64; WORDS]);
 
@@ -40,12 +53,18 @@ impl Tile {
         *w = if on { *w | b } else { *w & !b };
     }
 
-    fn byte(&self, k: usize) -> u8 {
-        (self.0[OPEN + k / 8] >> (k % 8 * 8)) as u8
-    }
-
-    fn or_byte(&mut self, k: usize, bits: u8) {
-        self.0[OPEN + k / 8] |= (bits as u64) << (k % 8 * 8);
+    /// Offsets in the tile of the vertices it holds masks for.
+    fn masked(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..BITS).flat_map(move |w| {
+            let mut x = self.0[MASKED + w];
+            std::iter::from_fn(move || {
+                (x != 0).then(|| {
+                    let b = x.trailing_zeros() as usize;
+                    x &= x - 1;
+                    w * 64 + b
+                })
+            })
+        })
     }
 
     /// Whether `other` holds something this tile lacks, and whether this
@@ -60,35 +79,106 @@ impl Tile {
     }
 }
 
+/// Edge masks, a byte a vertex (rounded up to whole tiles), shared by the
+/// maps that hold this table. An entry means something to a map only where
+/// the map's masked bit is set, and then it is never 0.
+pub type Masks = Vec<Cell<u8>>;
+
+fn masks(len: usize) -> Rc<Masks> {
+    Rc::new(vec![Cell::new(0); len])
+}
+
 thread_local! {
     /// The empty tile, one per thread (a run lives in one): merging it
     /// adds nothing, and most of a map is empty until late in a search.
     static EMPTY: Rc<Tile> = Rc::new(Tile::EMPTY);
+    /// The table new maps of this thread take, while a [`SharedMasks`] lives.
+    static SHARED: RefCell<Option<Rc<Masks>>> = const { RefCell::new(None) };
 }
 
 fn empty() -> Rc<Tile> {
     EMPTY.with(Rc::clone)
 }
 
+/// While alive, every map made on this thread for a grid of its size
+/// shares one table of masks, so merging two of them moves no mask byte
+/// and the masks cost a byte a vertex per run instead of per robot. The
+/// in-process engine holds one for a run; it changes no map's content.
+pub struct SharedMasks {
+    before: Option<Rc<Masks>>,
+}
+
+impl SharedMasks {
+    pub fn new(vertices: usize) -> Self {
+        let table = masks(vertices.div_ceil(TILE) * TILE);
+        SharedMasks { before: SHARED.with(|s| s.borrow_mut().replace(table)) }
+    }
+}
+
+impl Drop for SharedMasks {
+    fn drop(&mut self) {
+        SHARED.with(|s| *s.borrow_mut() = self.before.take());
+    }
+}
+
 /// The per-vertex parts of a map of `vertices` vertices.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Default)]
 pub struct Tiles {
     vertices: usize,
     tiles: Vec<Rc<Tile>>,
+    masks: Rc<Masks>,
+}
+
+impl Clone for Tiles {
+    fn clone(&self) -> Self {
+        Tiles { vertices: self.vertices, tiles: self.tiles.clone(), masks: Rc::clone(&self.masks) }
+    }
+
+    /// Reuses this map's list of tiles: a robot copies its map into a spare every slot.
+    fn clone_from(&mut self, source: &Self) {
+        self.vertices = source.vertices;
+        self.tiles.clone_from(&source.tiles);
+        self.masks = Rc::clone(&source.masks);
+    }
+}
+
+impl PartialEq for Tiles {
+    fn eq(&self, other: &Self) -> bool {
+        let same = Rc::ptr_eq(&self.masks, &other.masks);
+        self.vertices == other.vertices
+            && self.tiles.len() == other.tiles.len()
+            && self.tiles.iter().zip(&other.tiles).enumerate().all(|(i, (a, b))| {
+                Rc::ptr_eq(a, b) || (a == b && (same || a.masked().all(|k| self.mask(i * TILE + k) == other.mask(i * TILE + k))))
+            })
+    }
+}
+
+impl Eq for Tiles {}
+
+impl std::fmt::Debug for Tiles {
+    /// The content, as the flat fields would show it: the vertices of each set.
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let n = self.tiles.len() * TILE;
+        let set = |on: fn(&Tiles, usize) -> bool| (0..n).filter(|&v| on(self, v)).collect::<Vec<_>>();
+        f.debug_struct("Tiles")
+            .field("vertices", &self.vertices)
+            .field("visited", &set(Tiles::visited))
+            .field("known", &set(Tiles::known))
+            .field("open", &(0..n).filter_map(|v| Some((v, self.open(v))).filter(|o| o.1 != 0)).collect::<Vec<_>>())
+            .finish()
+    }
 }
 
 impl Tiles {
     /// Nothing known; every tile is the empty tile all maps share.
     pub fn new(vertices: usize) -> Self {
-        Tiles { vertices, tiles: vec![empty(); vertices.div_ceil(TILE)] }
+        let n = vertices.div_ceil(TILE);
+        let shared = SHARED.with(|s| s.borrow().as_ref().filter(|m| m.len() == n * TILE).map(Rc::clone));
+        Tiles { vertices, tiles: vec![empty(); n], masks: shared.unwrap_or_else(|| masks(n * TILE)) }
     }
 
     pub fn vertices(&self) -> usize {
         self.vertices
-    }
-
-    fn at(&self, v: usize) -> (&Tile, usize) {
-        (&self.tiles[v / TILE], v % TILE)
     }
 
     /// The tile of `v`, this map's own from now on (copied if shared).
@@ -104,9 +194,17 @@ impl Tiles {
         self.tiles.get(v / TILE).is_some_and(|t| t.bit(KNOWN, v % TILE))
     }
 
+    /// The table's entry for `v`, whether or not this map holds it.
+    fn mask(&self, v: usize) -> u8 {
+        self.masks[v].get()
+    }
+
     pub fn open(&self, v: usize) -> u8 {
-        let (t, k) = self.at(v);
-        t.byte(k)
+        if self.tiles[v / TILE].bit(MASKED, v % TILE) {
+            self.mask(v)
+        } else {
+            0
+        }
     }
 
     pub fn set_visited(&mut self, v: usize, on: bool) {
@@ -124,10 +222,29 @@ impl Tiles {
     }
 
     pub fn or_open(&mut self, v: usize, bits: u8) {
-        if self.open(v) | bits != self.open(v) {
-            let (t, k) = self.at_mut(v);
-            t.or_byte(k, bits);
+        let had = self.open(v);
+        if had | bits == had {
+            return;
         }
+        self.set_mask(v, had | bits);
+        if had == 0 {
+            let (t, k) = self.at_mut(v);
+            t.set_bit(MASKED, k, true);
+        }
+    }
+
+    /// Makes the table's entry for `v` read `byte` (not 0). An entry
+    /// nobody holds is 0 and may be filled in place; one that other maps
+    /// may hold is changed in a copy of the table, this map's alone.
+    fn set_mask(&mut self, v: usize, byte: u8) {
+        let entry = self.mask(v);
+        if entry == byte {
+            return;
+        }
+        if entry != 0 && Rc::strong_count(&self.masks) > 1 {
+            self.masks = Rc::new(Masks::clone(&self.masks));
+        }
+        self.masks[v].set(byte);
     }
 
     /// `self ∪= other`, tile by tile: shared tiles are skipped, and a tile
@@ -135,10 +252,22 @@ impl Tiles {
     /// then on). Maps of different sizes merge over the common tiles.
     pub fn merge(&mut self, other: &Tiles) {
         let empty = empty();
-        for (mine, theirs) in self.tiles.iter_mut().zip(&other.tiles) {
-            if Rc::ptr_eq(mine, theirs) || Rc::ptr_eq(theirs, &empty) {
+        let same = Rc::ptr_eq(&self.masks, &other.masks);
+        for i in 0..self.tiles.len().min(other.tiles.len()) {
+            let theirs = &other.tiles[i];
+            if Rc::ptr_eq(&self.tiles[i], theirs) || Rc::ptr_eq(theirs, &empty) {
                 continue;
             }
+            if !same {
+                // Another table: its bytes come over one by one (a robot
+                // process merging a map it decoded), and the tile's masked
+                // bits with them, so the words below agree on them.
+                for k in theirs.masked() {
+                    let v = i * TILE + k;
+                    self.or_open(v, other.mask(v));
+                }
+            }
+            let mine = &mut self.tiles[i];
             let (more, less) = mine.differences(theirs);
             // Equal tiles too: shared from now on, the next merge skips them.
             if !less {
@@ -171,8 +300,9 @@ impl Tiles {
         (0..self.vertices).map(|v| self.open(v))
     }
 
-    /// Tiles from flat bitsets and masks; `None` unless both bitsets have
-    /// one word per 64 of `open`'s vertices and no bit past its end.
+    /// Tiles from flat bitsets and masks, with a table of their own;
+    /// `None` unless both bitsets have one word per 64 of `open`'s
+    /// vertices and no bit past its end.
     pub fn from_flat(visited: &[u64], known: &[u64], open: &[u8]) -> Option<Self> {
         let vertices = open.len();
         let words = vertices.div_ceil(64);
@@ -183,7 +313,11 @@ impl Tiles {
         if past(visited) || past(known) {
             return None;
         }
-        let mut t = Tiles::new(vertices);
+        let n = vertices.div_ceil(TILE);
+        let mut t = Tiles { vertices, tiles: vec![empty(); n], masks: masks(n * TILE) };
+        for (v, &b) in open.iter().enumerate() {
+            t.masks[v].set(b);
+        }
         for (k, slot) in t.tiles.iter_mut().enumerate() {
             let mut tile = Tile::EMPTY;
             for w in 0..BITS {
@@ -191,7 +325,7 @@ impl Tiles {
                 tile.0[KNOWN + w] = known.get(k * BITS + w).copied().unwrap_or(0);
             }
             for (i, &b) in open.iter().skip(k * TILE).take(TILE).enumerate() {
-                tile.or_byte(i, b);
+                tile.set_bit(MASKED, i, b != 0);
             }
             if tile != Tile::EMPTY {
                 *slot = Rc::new(tile);
@@ -206,7 +340,7 @@ impl Tiles {
             return false;
         };
         let first = self.vertices - (self.tiles.len() - 1) * TILE;
-        (first..TILE).any(|k| last.bit(VISITED, k) || last.bit(KNOWN, k) || last.byte(k) != 0)
+        (first..TILE).any(|k| last.bit(VISITED, k) || last.bit(KNOWN, k) || last.bit(MASKED, k))
     }
 
     /// Tiles held by this map alone (for tests of sharing).
@@ -217,5 +351,10 @@ impl Tiles {
     /// Whether two maps hold the very same tile for vertex `v`.
     pub fn shares(&self, other: &Tiles, v: usize) -> bool {
         Rc::ptr_eq(&self.tiles[v / TILE], &other.tiles[v / TILE])
+    }
+
+    /// Whether two maps read their masks from the very same table.
+    pub fn shares_masks(&self, other: &Tiles) -> bool {
+        Rc::ptr_eq(&self.masks, &other.masks)
     }
 }
