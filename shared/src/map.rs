@@ -381,14 +381,18 @@ mod tests {
         let mut ab = a.clone();
         proptest::prop_assert_eq!(ab.cells().unshared(), 0);
         ab.merge(b);
+        // Per tile: whether `b`'s holds all of `a`'s.
+        let mut only_b = vec![true; (n as usize).div_ceil(tiles::TILE)];
+        for v in 0..n {
+            only_b[v as usize / tiles::TILE] &=
+                (!a.visited(v) || b.visited(v)) && (!a.known(v) || b.known(v)) && a.open(v) & !b.open(v) == 0;
+        }
         for v in 0..n {
             proptest::prop_assert_eq!(ab.visited(v), a.visited(v) || b.visited(v));
             proptest::prop_assert_eq!(ab.known(v), a.known(v) || b.known(v));
             proptest::prop_assert_eq!(ab.open(v), a.open(v) | b.open(v));
             // A tile of `b` that holds all of `a`'s is taken whole.
-            let only_b = (0..n).filter(|&u| u as usize / tiles::TILE == v as usize / tiles::TILE)
-                .all(|u| (!a.visited(u) || b.visited(u)) && (!a.known(u) || b.known(u)) && a.open(u) & !b.open(u) == 0);
-            if only_b && ab.cells().shares_masks(b.cells()) {
+            if only_b[v as usize / tiles::TILE] && ab.cells().shares_masks(b.cells()) {
                 proptest::prop_assert!(ab.cells().shares(b.cells(), v as usize));
             }
         }
@@ -404,9 +408,9 @@ mod tests {
         /// up masks that disagree included), two, or one came off the wire.
         #[test]
         fn tiles_merge_as_flat_unions(
-            n in 1usize..1200,
-            a in proptest::collection::vec((0usize..1200, proptest::prelude::any::<u8>()), 0..40),
-            b in proptest::collection::vec((0usize..1200, proptest::prelude::any::<u8>()), 0..40),
+            n in 1usize..6000,
+            a in proptest::collection::vec((0usize..6000, proptest::prelude::any::<u8>()), 0..80),
+            b in proptest::collection::vec((0usize..6000, proptest::prelude::any::<u8>()), 0..80),
         ) {
             let apart = (marked(n, &a), marked(n, &b));
             let shared = {
@@ -420,6 +424,12 @@ mod tests {
             proptest::prop_assert_eq!(&ab, &check_merge(&shared.1, &shared.0)?);
             proptest::prop_assert_eq!(&ab, &check_merge(&shared.0, &wire)?);
             proptest::prop_assert_eq!(&ab, &check_merge(&wire, &shared.0)?);
+            // Copying into a map of the same grid or of another.
+            for mut into in [marked(n, &b), Map::new(n + 300, 0), Map::default()] {
+                into.clone_from(&ab);
+                proptest::prop_assert_eq!(&into, &ab);
+                proptest::prop_assert_eq!(into.cells().unshared(), 0);
+            }
         }
     }
 

@@ -36,6 +36,8 @@ const KNOWN: usize = BITS;
 /// The vertices where the map holds an edge mask (in its [`Masks`]).
 const MASKED: usize = 2 * BITS;
 const WORDS: usize = 3 * BITS;
+/// Tiles a merge compares before it acts on any (see [`Tiles::merge_batch`]).
+const BATCH: usize = 16;
 
 /// One tile: visited bits, known bits, masked bits.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -96,6 +98,36 @@ thread_local! {
     static SHARED: RefCell<Option<Rc<Masks>>> = const { RefCell::new(None) };
 }
 
+/// Asks the processor to start loading `tile`, which a merge will compare
+/// a few tiles later: its wait for memory then overlaps the others'.
+fn prefetch(tile: &Rc<Tile>) {
+    let p = Rc::as_ptr(tile).cast::<u8>();
+    prefetch_addr(p);
+    prefetch_addr(p.wrapping_add(64));
+}
+
+/// Asks for the cache line of `tile`'s reference count.
+fn prefetch_count(tile: &Rc<Tile>) {
+    // The counts sit just before the value, in the same allocation.
+    prefetch_addr(Rc::as_ptr(tile).cast::<u8>().wrapping_sub(2 * size_of::<usize>()));
+}
+
+/// Tiles ahead of the one cloned that [`Tiles::clone_from`] asks for.
+const AHEAD: usize = 8;
+
+fn prefetch_addr(p: *const u8) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: a prefetch is a hint: it reads nothing the program sees
+        // and never faults, whatever the address. SSE is part of every
+        // x86_64 target.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
 fn empty() -> Rc<Tile> {
     EMPTY.with(Rc::clone)
 }
@@ -137,8 +169,20 @@ impl Clone for Tiles {
     /// Reuses this map's list of tiles: a robot copies its map into a spare every slot.
     fn clone_from(&mut self, source: &Self) {
         self.vertices = source.vertices;
-        self.tiles.clone_from(&source.tiles);
         self.masks = Rc::clone(&source.masks);
+        if self.tiles.len() != source.tiles.len() {
+            self.tiles.clone_from(&source.tiles);
+            return;
+        }
+        // Each tile's count changes, the old one's and the new one's: ask
+        // for them ahead, as a merge does.
+        for i in 0..self.tiles.len() {
+            if let (Some(old), Some(new)) = (self.tiles.get(i + AHEAD), source.tiles.get(i + AHEAD)) {
+                prefetch_count(old);
+                prefetch_count(new);
+            }
+            self.tiles[i].clone_from(&source.tiles[i]);
+        }
     }
 }
 
@@ -252,34 +296,58 @@ impl Tiles {
     /// then on). Maps of different sizes merge over the common tiles.
     pub fn merge(&mut self, other: &Tiles) {
         let empty = empty();
-        let same = Rc::ptr_eq(&self.masks, &other.masks);
-        for i in 0..self.tiles.len().min(other.tiles.len()) {
-            let theirs = &other.tiles[i];
-            if Rc::ptr_eq(&self.tiles[i], theirs) || Rc::ptr_eq(theirs, &empty) {
-                continue;
+        let n = self.tiles.len().min(other.tiles.len());
+        // The other map's list of tiles is cold too.
+        for t in other.tiles.iter().step_by(64 / size_of::<Rc<Tile>>()) {
+            prefetch_addr(std::ptr::from_ref(t).cast());
+        }
+        let mut todo = [0; BATCH];
+        let mut i = 0;
+        while i < n {
+            let mut k = 0;
+            while i < n && k < BATCH {
+                let theirs = &other.tiles[i];
+                if !Rc::ptr_eq(&self.tiles[i], theirs) && !Rc::ptr_eq(theirs, &empty) {
+                    prefetch(&self.tiles[i]);
+                    prefetch(theirs);
+                    todo[k] = i;
+                    k += 1;
+                }
+                i += 1;
             }
-            if !same {
-                // Another table: its bytes come over one by one (a robot
-                // process merging a map it decoded), and the tile's masked
-                // bits with them, so the words below agree on them.
-                for k in theirs.masked() {
+            self.merge_batch(other, &todo[..k]);
+        }
+    }
+
+    /// Merges the tiles `todo` of `other`, which differ from this map's.
+    /// Every comparison comes before any decision, so the tiles, which
+    /// are all over memory, are fetched together rather than one after
+    /// another (this loop was mostly waiting for them).
+    fn merge_batch(&mut self, other: &Tiles, todo: &[usize]) {
+        if !Rc::ptr_eq(&self.masks, &other.masks) {
+            // Another table: its bytes come over one by one (a robot
+            // process merging a map it decoded), and the tile's masked
+            // bits with them, so the words below agree on them.
+            for &i in todo {
+                for k in other.tiles[i].masked() {
                     let v = i * TILE + k;
                     self.or_open(v, other.mask(v));
                 }
             }
-            let mine = &mut self.tiles[i];
-            let (more, less) = mine.differences(theirs);
+        }
+        let mut diff = [(false, false); BATCH];
+        for (d, &i) in diff.iter_mut().zip(todo) {
+            *d = self.tiles[i].differences(&other.tiles[i]);
+        }
+        for (&(more, less), &i) in diff.iter().zip(todo) {
+            let (mine, theirs) = (&mut self.tiles[i], &other.tiles[i]);
             // Equal tiles too: shared from now on, the next merge skips them.
             if !less {
                 *mine = Rc::clone(theirs);
-                continue;
-            }
-            if !more {
-                continue;
-            }
-            let m = Rc::make_mut(mine);
-            for (a, b) in m.0.iter_mut().zip(&theirs.0) {
-                *a |= b;
+            } else if more {
+                for (a, b) in Rc::make_mut(mine).0.iter_mut().zip(&theirs.0) {
+                    *a |= b;
+                }
             }
         }
     }
