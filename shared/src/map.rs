@@ -34,7 +34,8 @@ pub struct Map {
     /// Per vertex: visited (some robot stood on it), known (accessible:
     /// visited, or the open end of a sensed edge), and the edge mask (bit
     /// `d` set when the edge in slot `d` was sensed traversable; [`SENSED`]
-    /// set once anyone sensed there).
+    /// set once anyone sensed there), the masks in a table shared with
+    /// other maps (see [`tiles`]).
     cells: Tiles,
     /// Target ids known found. It grows as targets are learnt: in situation
     /// 2 a robot does not know how many there are.
@@ -413,17 +414,19 @@ mod tests {
             b in proptest::collection::vec((0usize..6000, proptest::prelude::any::<u8>()), 0..80),
         ) {
             let apart = (marked(n, &a), marked(n, &b));
-            let shared = {
+            let decode = |m: &Map| postcard::from_bytes::<Map>(&postcard::to_allocvec(m).unwrap()).unwrap();
+            let wire = decode(&apart.1);
+            let (shared, shared_wire) = {
                 let _one = tiles::SharedMasks::new(n);
-                (marked(n, &a), marked(n, &b))
+                ((marked(n, &a), marked(n, &b)), decode(&apart.1))
             };
-            let wire: Map = postcard::from_bytes(&postcard::to_allocvec(&apart.1).unwrap()).unwrap();
             let ab = check_merge(&apart.0, &apart.1)?;
             proptest::prop_assert_eq!(&ab, &check_merge(&apart.1, &apart.0)?);
             proptest::prop_assert_eq!(&ab, &check_merge(&shared.0, &shared.1)?);
             proptest::prop_assert_eq!(&ab, &check_merge(&shared.1, &shared.0)?);
             proptest::prop_assert_eq!(&ab, &check_merge(&shared.0, &wire)?);
             proptest::prop_assert_eq!(&ab, &check_merge(&wire, &shared.0)?);
+            proptest::prop_assert_eq!(&ab, &check_merge(&shared.0, &shared_wire)?);
             // Copying into a map of the same grid or of another.
             for mut into in [marked(n, &b), Map::new(n + 300, 0), Map::default()] {
                 into.clone_from(&ab);
@@ -447,8 +450,8 @@ mod tests {
             let near = grid.neighbors(v)[..grid.degree()].iter().enumerate();
             near.filter(|&(d, &n)| n != crate::grid::NONE && (d % 2 == 1 || n % 2 == 0)).fold(0, |m, (d, _)| m | 1 << d)
         };
+        let one = tiles::SharedMasks::new(grid.len());
         let maps: Vec<Map> = {
-            let _one = tiles::SharedMasks::new(grid.len());
             (0..4u32)
                 .map(|r| {
                     let mut m = Map::new(grid.len(), 0);
@@ -472,6 +475,15 @@ mod tests {
         odd.or_open(0, 0x40);
         assert!(!odd.cells().shares_masks(all.cells()));
         assert_eq!((odd.open(0), all.open(0)), (physics(0) | SENSED | 0x40, physics(0) | SENSED));
+        // Decoded, an honest map reads the same table, and one that
+        // contradicts it (hostile) a copy of its own.
+        let decode = |m: &Map| postcard::from_bytes::<Map>(&postcard::to_allocvec(m).unwrap()).unwrap();
+        let (back, odd_back) = (decode(&all), decode(&odd));
+        assert!(back.cells().shares_masks(all.cells()));
+        assert!(!odd_back.cells().shares_masks(all.cells()));
+        assert_eq!((&back, &odd_back), (&all, &odd));
+        assert_eq!(all.open(0), physics(0) | SENSED);
+        drop(one);
         // Outside the scope every new map has a table of its own.
         assert!(!Map::new(grid.len(), 0).cells().shares_masks(Map::new(grid.len(), 0).cells()));
     }

@@ -11,8 +11,9 @@
 //! standing on a vertex, and that is physics: every map that holds a mask
 //! for `v` holds the same byte. So a tile keeps one bit a vertex, "holds a
 //! mask here", and the bytes live in a [`Masks`] table shared by a group
-//! of maps (every map of an in-process run, see [`SharedMasks`]; a robot
-//! process's own maps), read only under the map's own bit. Tiles went from
+//! of maps (every map of an in-process run, see [`SharedMasks`]; in a robot
+//! process, its own maps and those it decodes), read only under the map's
+//! own bit. Tiles went from
 //! 40 words to 12, and merging, which compares and ORs tiles, streams a
 //! third of what it did. The table is a memo, not a channel: a map's
 //! content is what it would be with a table of its own. Filling an entry
@@ -132,10 +133,11 @@ fn empty() -> Rc<Tile> {
     EMPTY.with(Rc::clone)
 }
 
-/// While alive, every map made on this thread for a grid of its size
-/// shares one table of masks, so merging two of them moves no mask byte
-/// and the masks cost a byte a vertex per run instead of per robot. The
-/// in-process engine holds one for a run; it changes no map's content.
+/// While alive, every map made or decoded on this thread for a grid of
+/// its size shares one table of masks, so merging two of them moves no
+/// mask byte and the masks cost a byte a vertex per run instead of per
+/// robot. The in-process engine holds one for a run, a robot process one
+/// for its life; it changes no map's content.
 pub struct SharedMasks {
     before: Option<Rc<Masks>>,
 }
@@ -145,6 +147,11 @@ impl SharedMasks {
         let table = masks(vertices.div_ceil(TILE) * TILE);
         SharedMasks { before: SHARED.with(|s| s.borrow_mut().replace(table)) }
     }
+}
+
+/// The table of this thread's [`SharedMasks`], if one lives and has `len` entries.
+fn shared(len: usize) -> Option<Rc<Masks>> {
+    SHARED.with(|s| s.borrow().as_ref().filter(|m| m.len() == len).map(Rc::clone))
 }
 
 impl Drop for SharedMasks {
@@ -217,8 +224,7 @@ impl Tiles {
     /// Nothing known; every tile is the empty tile all maps share.
     pub fn new(vertices: usize) -> Self {
         let n = vertices.div_ceil(TILE);
-        let shared = SHARED.with(|s| s.borrow().as_ref().filter(|m| m.len() == n * TILE).map(Rc::clone));
-        Tiles { vertices, tiles: vec![empty(); n], masks: shared.unwrap_or_else(|| masks(n * TILE)) }
+        Tiles { vertices, tiles: vec![empty(); n], masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)) }
     }
 
     pub fn vertices(&self) -> usize {
@@ -368,7 +374,9 @@ impl Tiles {
         (0..self.vertices).map(|v| self.open(v))
     }
 
-    /// Tiles from flat bitsets and masks, with a table of their own;
+    /// Tiles from flat bitsets and masks, reading the thread's shared
+    /// table if one is installed (a robot process: then merging what it
+    /// decodes moves no mask byte) and agrees, else a table of their own;
     /// `None` unless both bitsets have one word per 64 of `open`'s
     /// vertices and no bit past its end.
     pub fn from_flat(visited: &[u64], known: &[u64], open: &[u8]) -> Option<Self> {
@@ -382,9 +390,11 @@ impl Tiles {
             return None;
         }
         let n = vertices.div_ceil(TILE);
-        let mut t = Tiles { vertices, tiles: vec![empty(); n], masks: masks(n * TILE) };
+        let mut t = Tiles { vertices, tiles: vec![empty(); n], masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)) };
         for (v, &b) in open.iter().enumerate() {
-            t.masks[v].set(b);
+            if b != 0 {
+                t.set_mask(v, b);
+            }
         }
         for (k, slot) in t.tiles.iter_mut().enumerate() {
             let mut tile = Tile::EMPTY;
