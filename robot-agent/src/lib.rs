@@ -274,6 +274,8 @@ fn run(args: &Args, setup: &RobotSetup) -> Result<Exit, String> {
 /// message until `End` or the world is gone.
 fn serve(args: &Args, setup: &RobotSetup, link: &dyn AgentTransport) -> Result<Exit, String> {
     let grid: Grid = setup.grid();
+    // This robot's maps and the maps it decodes read one table of edge masks.
+    let _masks = gridswarm::map::tiles::SharedMasks::new(grid.len());
     let robot = setup.id as usize;
     let mut agent = Agent {
         peer: Peer::new(&grid, setup.peer_config()),

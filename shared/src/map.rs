@@ -29,12 +29,13 @@ pub struct Failure {
 
 /// A robot's map. The per-vertex parts live in shared [`tiles`]; on the
 /// wire a map is, as it always was, the flat fields of [`Flat`].
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Debug, Default, PartialEq, Eq)]
 pub struct Map {
     /// Per vertex: visited (some robot stood on it), known (accessible:
     /// visited, or the open end of a sensed edge), and the edge mask (bit
     /// `d` set when the edge in slot `d` was sensed traversable; [`SENSED`]
-    /// set once anyone sensed there).
+    /// set once anyone sensed there), the masks in a table shared with
+    /// other maps (see [`tiles`]).
     cells: Tiles,
     /// Target ids known found. It grows as targets are learnt: in situation
     /// 2 a robot does not know how many there are.
@@ -60,6 +61,21 @@ struct Flat<T, F, A> {
     targets: T,
     failed: F,
     alive: A,
+}
+
+impl Clone for Map {
+    fn clone(&self) -> Self {
+        Map { cells: self.cells.clone(), targets: self.targets.clone(), failed: self.failed.clone(), alive: self.alive.clone() }
+    }
+
+    /// Field by field, keeping this map's allocations: a robot copies its
+    /// map into a spare every slot.
+    fn clone_from(&mut self, source: &Self) {
+        self.cells.clone_from(&source.cells);
+        self.targets.clone_from(&source.targets);
+        self.failed.clone_from(&source.failed);
+        self.alive.clone_from(&source.alive);
+    }
 }
 
 impl Serialize for Map {
@@ -358,35 +374,118 @@ mod tests {
         m
     }
 
+    /// Merges `b` into a copy of `a`: the result is the flat union, shares
+    /// what it can, and neither `a` nor `b` changes.
+    fn check_merge(a: &Map, b: &Map) -> Result<Map, proptest::test_runner::TestCaseError> {
+        let n = a.vertices() as VertexId;
+        let (before_a, before_b) = (postcard::to_allocvec(a).unwrap(), postcard::to_allocvec(b).unwrap());
+        let mut ab = a.clone();
+        proptest::prop_assert_eq!(ab.cells().unshared(), 0);
+        ab.merge(b);
+        // Per tile: whether `b`'s holds all of `a`'s.
+        let mut only_b = vec![true; (n as usize).div_ceil(tiles::TILE)];
+        for v in 0..n {
+            only_b[v as usize / tiles::TILE] &=
+                (!a.visited(v) || b.visited(v)) && (!a.known(v) || b.known(v)) && a.open(v) & !b.open(v) == 0;
+        }
+        for v in 0..n {
+            proptest::prop_assert_eq!(ab.visited(v), a.visited(v) || b.visited(v));
+            proptest::prop_assert_eq!(ab.known(v), a.known(v) || b.known(v));
+            proptest::prop_assert_eq!(ab.open(v), a.open(v) | b.open(v));
+            // A tile of `b` that holds all of `a`'s is taken whole.
+            if only_b[v as usize / tiles::TILE] && ab.cells().shares_masks(b.cells()) {
+                proptest::prop_assert!(ab.cells().shares(b.cells(), v as usize));
+            }
+        }
+        proptest::prop_assert_eq!(postcard::to_allocvec(a).unwrap(), before_a, "merging into a copy changed the original");
+        proptest::prop_assert_eq!(postcard::to_allocvec(b).unwrap(), before_b);
+        proptest::prop_assert_eq!(ab.has_unvisited(), (0..n).any(|v| ab.known(v) && !ab.visited(v)));
+        Ok(ab)
+    }
+
     proptest::proptest! {
-        /// Merging tiles gives what merging the flat fields gives, shares
-        /// what it can, and copies share everything until they change.
+        /// Merging tiles gives what merging the flat fields gives, in
+        /// either order, whether the two maps read one table of masks (made
+        /// up masks that disagree included), two, or one came off the wire.
         #[test]
         fn tiles_merge_as_flat_unions(
-            n in 1usize..1200,
-            a in proptest::collection::vec((0usize..1200, proptest::prelude::any::<u8>()), 0..40),
-            b in proptest::collection::vec((0usize..1200, proptest::prelude::any::<u8>()), 0..40),
+            n in 1usize..6000,
+            a in proptest::collection::vec((0usize..6000, proptest::prelude::any::<u8>()), 0..80),
+            b in proptest::collection::vec((0usize..6000, proptest::prelude::any::<u8>()), 0..80),
         ) {
-            let (ma, mb) = (marked(n, &a), marked(n, &b));
-            let mut ab = ma.clone();
-            proptest::prop_assert_eq!(ab.cells().unshared(), 0);
-            ab.merge(&mb);
-            for v in 0..n as VertexId {
-                proptest::prop_assert_eq!(ab.visited(v), ma.visited(v) || mb.visited(v));
-                proptest::prop_assert_eq!(ab.known(v), ma.known(v) || mb.known(v));
-                proptest::prop_assert_eq!(ab.open(v), ma.open(v) | mb.open(v));
-                // A tile of `b` that holds all of `a`'s is taken whole.
-                let only_b = (0..n as VertexId).filter(|&u| u as usize / tiles::TILE == v as usize / tiles::TILE)
-                    .all(|u| (!ma.visited(u) || mb.visited(u)) && (!ma.known(u) || mb.known(u)) && ma.open(u) & !mb.open(u) == 0);
-                if only_b {
-                    proptest::prop_assert!(ab.cells().shares(mb.cells(), v as usize));
-                }
+            let apart = (marked(n, &a), marked(n, &b));
+            let decode = |m: &Map| postcard::from_bytes::<Map>(&postcard::to_allocvec(m).unwrap()).unwrap();
+            let wire = decode(&apart.1);
+            let (shared, shared_wire) = {
+                let _one = tiles::SharedMasks::new(n);
+                ((marked(n, &a), marked(n, &b)), decode(&apart.1))
+            };
+            let ab = check_merge(&apart.0, &apart.1)?;
+            proptest::prop_assert_eq!(&ab, &check_merge(&apart.1, &apart.0)?);
+            proptest::prop_assert_eq!(&ab, &check_merge(&shared.0, &shared.1)?);
+            proptest::prop_assert_eq!(&ab, &check_merge(&shared.1, &shared.0)?);
+            proptest::prop_assert_eq!(&ab, &check_merge(&shared.0, &wire)?);
+            proptest::prop_assert_eq!(&ab, &check_merge(&wire, &shared.0)?);
+            proptest::prop_assert_eq!(&ab, &check_merge(&shared.0, &shared_wire)?);
+            // Copying into a map of the same grid or of another.
+            for mut into in [marked(n, &b), Map::new(n + 300, 0), Map::default()] {
+                into.clone_from(&ab);
+                proptest::prop_assert_eq!(&into, &ab);
+                proptest::prop_assert_eq!(into.cells().unshared(), 0);
             }
-            let mut ba = mb.clone();
-            ba.merge(&ma);
-            proptest::prop_assert_eq!(&ab, &ba);
-            proptest::prop_assert_eq!(ab.has_unvisited(), (0..n as VertexId).any(|v| ab.known(v) && !ab.visited(v)));
         }
+    }
+
+    /// Robots that sense the same physics never copy the table they share,
+    /// however their maps merge; only a map that needs another byte where
+    /// one is held gets a table of its own.
+    #[test]
+    fn honest_maps_keep_one_table_of_masks() {
+        use crate::geometry::Point;
+        use crate::lattice::{Lattice, LatticeKind};
+        let grid = Grid::new(Lattice::new(LatticeKind::Triangular, 1.0), Point::new(0.0, 0.0), Point::new(20.0, 20.0));
+        let last = grid.len() as VertexId - 1;
+        // Open towards every neighbour in the grid whose slot is odd or whose id is even.
+        let physics = |v: VertexId| {
+            let near = grid.neighbors(v)[..grid.degree()].iter().enumerate();
+            near.filter(|&(d, &n)| n != crate::grid::NONE && (d % 2 == 1 || n % 2 == 0)).fold(0, |m, (d, _)| m | 1 << d)
+        };
+        let one = tiles::SharedMasks::new(grid.len());
+        let maps: Vec<Map> = {
+            (0..4u32)
+                .map(|r| {
+                    let mut m = Map::new(grid.len(), 0);
+                    for v in (r * 50..r * 50 + 120).chain([last]) {
+                        m.record_sensing(&grid, v, physics(v));
+                    }
+                    m
+                })
+                .collect()
+        };
+        let mut all = maps[0].clone();
+        for m in &maps[1..] {
+            all.merge(m);
+            all.merge(&all.clone());
+        }
+        assert!(maps.iter().all(|m| m.cells().shares_masks(all.cells())));
+        assert_eq!(all.open(last), physics(last) | SENSED);
+        assert_eq!(all.open(last - 1), 0, "nobody sensed there");
+        // A map that disagrees takes a copy; the others still read the old byte.
+        let mut odd = maps[0].clone();
+        odd.or_open(0, 0x40);
+        assert!(!odd.cells().shares_masks(all.cells()));
+        assert_eq!((odd.open(0), all.open(0)), (physics(0) | SENSED | 0x40, physics(0) | SENSED));
+        // Decoded, an honest map reads the same table, and one that
+        // contradicts it (hostile) a copy of its own.
+        let decode = |m: &Map| postcard::from_bytes::<Map>(&postcard::to_allocvec(m).unwrap()).unwrap();
+        let (back, odd_back) = (decode(&all), decode(&odd));
+        assert!(back.cells().shares_masks(all.cells()));
+        assert!(!odd_back.cells().shares_masks(all.cells()));
+        assert_eq!((&back, &odd_back), (&all, &odd));
+        assert_eq!(all.open(0), physics(0) | SENSED);
+        drop(one);
+        // Outside the scope every new map has a table of its own.
+        assert!(!Map::new(grid.len(), 0).cells().shares_masks(Map::new(grid.len(), 0).cells()));
     }
 
     #[test]

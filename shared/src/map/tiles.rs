@@ -7,24 +7,40 @@
 //! takes the other's tile whole when its own holds nothing more (or the same), so tiles
 //! that stopped changing end up shared by every robot that knows them.
 //!
+//! The edge masks are not in the tiles. A mask is what a robot senses
+//! standing on a vertex, and that is physics: every map that holds a mask
+//! for `v` holds the same byte. So a tile keeps one bit a vertex, "holds a
+//! mask here", and the bytes live in a [`Masks`] table shared by a group
+//! of maps (every map of an in-process run, see [`SharedMasks`]; in a robot
+//! process, its own maps and those it decodes), read only under the map's
+//! own bit. Tiles went from
+//! 40 words to 12, and merging, which compares and ORs tiles, streams a
+//! third of what it did. The table is a memo, not a channel: a map's
+//! content is what it would be with a table of its own. Filling an entry
+//! nobody holds changes no map; a map that needs another byte where one is
+//! held (maps that disagree about physics: only made up, or hostile from
+//! the wire) first takes a copy of the table for itself.
+//!
 //! In-process, frames carry these tiles by reference; on the wire a map is
 //! the same flat bitsets and bytes as ever ([`super::Map`]'s serde), and a
 //! robot process builds its own tiles from them.
 
+use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
 /// Vertices per tile.
 pub const TILE: usize = 256;
 /// Words of one tile's bitset.
 const BITS: usize = TILE / 64;
-/// Words of one tile's edge masks (a byte per vertex).
-const BYTES: usize = TILE / 8;
 const VISITED: usize = 0;
 const KNOWN: usize = BITS;
-const OPEN: usize = 2 * BITS;
-const WORDS: usize = 2 * BITS + BYTES;
+/// The vertices where the map holds an edge mask (in its [`Masks`]).
+const MASKED: usize = 2 * BITS;
+const WORDS: usize = 3 * BITS;
+/// Tiles a merge compares before it acts on any (see [`Tiles::merge_batch`]).
+const BATCH: usize = 16;
 
-/// One tile: visited bits, known bits, then a byte of edge masks per vertex.
+/// One tile: visited bits, known bits, masked bits.
 #[derive(Clone, Debug, PartialEq, Eq)]
 struct Tile([u64; WORDS]);
 
@@ -40,12 +56,18 @@ impl Tile {
         *w = if on { *w | b } else { *w & !b };
     }
 
-    fn byte(&self, k: usize) -> u8 {
-        (self.0[OPEN + k / 8] >> (k % 8 * 8)) as u8
-    }
-
-    fn or_byte(&mut self, k: usize, bits: u8) {
-        self.0[OPEN + k / 8] |= (bits as u64) << (k % 8 * 8);
+    /// Offsets in the tile of the vertices it holds masks for.
+    fn masked(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..BITS).flat_map(move |w| {
+            let mut x = self.0[MASKED + w];
+            std::iter::from_fn(move || {
+                (x != 0).then(|| {
+                    let b = x.trailing_zeros() as usize;
+                    x &= x - 1;
+                    w * 64 + b
+                })
+            })
+        })
     }
 
     /// Whether `other` holds something this tile lacks, and whether this
@@ -60,35 +82,153 @@ impl Tile {
     }
 }
 
+/// Edge masks, a byte a vertex (rounded up to whole tiles), shared by the
+/// maps that hold this table. An entry means something to a map only where
+/// the map's masked bit is set, and then it is never 0.
+pub type Masks = Vec<Cell<u8>>;
+
+fn masks(len: usize) -> Rc<Masks> {
+    Rc::new(vec![Cell::new(0); len])
+}
+
 thread_local! {
     /// The empty tile, one per thread (a run lives in one): merging it
     /// adds nothing, and most of a map is empty until late in a search.
     static EMPTY: Rc<Tile> = Rc::new(Tile::EMPTY);
+    /// The table new maps of this thread take, while a [`SharedMasks`] lives.
+    static SHARED: RefCell<Option<Rc<Masks>>> = const { RefCell::new(None) };
+}
+
+/// Asks the processor to start loading `tile`, which a merge will compare
+/// a few tiles later: its wait for memory then overlaps the others'.
+fn prefetch(tile: &Rc<Tile>) {
+    let p = Rc::as_ptr(tile).cast::<u8>();
+    prefetch_addr(p);
+    prefetch_addr(p.wrapping_add(64));
+}
+
+/// Asks for the cache line of `tile`'s reference count.
+fn prefetch_count(tile: &Rc<Tile>) {
+    // The counts sit just before the value, in the same allocation.
+    prefetch_addr(Rc::as_ptr(tile).cast::<u8>().wrapping_sub(2 * size_of::<usize>()));
+}
+
+/// Tiles ahead of the one cloned that [`Tiles::clone_from`] asks for.
+const AHEAD: usize = 8;
+
+fn prefetch_addr(p: *const u8) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        // SAFETY: a prefetch is a hint: it reads nothing the program sees
+        // and never faults, whatever the address. SSE is part of every
+        // x86_64 target.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
 }
 
 fn empty() -> Rc<Tile> {
     EMPTY.with(Rc::clone)
 }
 
+/// While alive, every map made or decoded on this thread for a grid of
+/// its size shares one table of masks, so merging two of them moves no
+/// mask byte and the masks cost a byte a vertex per run instead of per
+/// robot. The in-process engine holds one for a run, a robot process one
+/// for its life; it changes no map's content.
+pub struct SharedMasks {
+    before: Option<Rc<Masks>>,
+}
+
+impl SharedMasks {
+    pub fn new(vertices: usize) -> Self {
+        let table = masks(vertices.div_ceil(TILE) * TILE);
+        SharedMasks { before: SHARED.with(|s| s.borrow_mut().replace(table)) }
+    }
+}
+
+/// The table of this thread's [`SharedMasks`], if one lives and has `len` entries.
+fn shared(len: usize) -> Option<Rc<Masks>> {
+    SHARED.with(|s| s.borrow().as_ref().filter(|m| m.len() == len).map(Rc::clone))
+}
+
+impl Drop for SharedMasks {
+    fn drop(&mut self) {
+        SHARED.with(|s| *s.borrow_mut() = self.before.take());
+    }
+}
+
 /// The per-vertex parts of a map of `vertices` vertices.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Default)]
 pub struct Tiles {
     vertices: usize,
     tiles: Vec<Rc<Tile>>,
+    masks: Rc<Masks>,
+}
+
+impl Clone for Tiles {
+    fn clone(&self) -> Self {
+        Tiles { vertices: self.vertices, tiles: self.tiles.clone(), masks: Rc::clone(&self.masks) }
+    }
+
+    /// Reuses this map's list of tiles: a robot copies its map into a spare every slot.
+    fn clone_from(&mut self, source: &Self) {
+        self.vertices = source.vertices;
+        self.masks = Rc::clone(&source.masks);
+        if self.tiles.len() != source.tiles.len() {
+            self.tiles.clone_from(&source.tiles);
+            return;
+        }
+        // Each tile's count changes, the old one's and the new one's: ask
+        // for them ahead, as a merge does.
+        for i in 0..self.tiles.len() {
+            if let (Some(old), Some(new)) = (self.tiles.get(i + AHEAD), source.tiles.get(i + AHEAD)) {
+                prefetch_count(old);
+                prefetch_count(new);
+            }
+            self.tiles[i].clone_from(&source.tiles[i]);
+        }
+    }
+}
+
+impl PartialEq for Tiles {
+    fn eq(&self, other: &Self) -> bool {
+        let same = Rc::ptr_eq(&self.masks, &other.masks);
+        self.vertices == other.vertices
+            && self.tiles.len() == other.tiles.len()
+            && self.tiles.iter().zip(&other.tiles).enumerate().all(|(i, (a, b))| {
+                Rc::ptr_eq(a, b) || (a == b && (same || a.masked().all(|k| self.mask(i * TILE + k) == other.mask(i * TILE + k))))
+            })
+    }
+}
+
+impl Eq for Tiles {}
+
+impl std::fmt::Debug for Tiles {
+    /// The content, as the flat fields would show it: the vertices of each set.
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let n = self.tiles.len() * TILE;
+        let set = |on: fn(&Tiles, usize) -> bool| (0..n).filter(|&v| on(self, v)).collect::<Vec<_>>();
+        f.debug_struct("Tiles")
+            .field("vertices", &self.vertices)
+            .field("visited", &set(Tiles::visited))
+            .field("known", &set(Tiles::known))
+            .field("open", &(0..n).filter_map(|v| Some((v, self.open(v))).filter(|o| o.1 != 0)).collect::<Vec<_>>())
+            .finish()
+    }
 }
 
 impl Tiles {
     /// Nothing known; every tile is the empty tile all maps share.
     pub fn new(vertices: usize) -> Self {
-        Tiles { vertices, tiles: vec![empty(); vertices.div_ceil(TILE)] }
+        let n = vertices.div_ceil(TILE);
+        Tiles { vertices, tiles: vec![empty(); n], masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)) }
     }
 
     pub fn vertices(&self) -> usize {
         self.vertices
-    }
-
-    fn at(&self, v: usize) -> (&Tile, usize) {
-        (&self.tiles[v / TILE], v % TILE)
     }
 
     /// The tile of `v`, this map's own from now on (copied if shared).
@@ -104,9 +244,17 @@ impl Tiles {
         self.tiles.get(v / TILE).is_some_and(|t| t.bit(KNOWN, v % TILE))
     }
 
+    /// The table's entry for `v`, whether or not this map holds it.
+    fn mask(&self, v: usize) -> u8 {
+        self.masks[v].get()
+    }
+
     pub fn open(&self, v: usize) -> u8 {
-        let (t, k) = self.at(v);
-        t.byte(k)
+        if self.tiles[v / TILE].bit(MASKED, v % TILE) {
+            self.mask(v)
+        } else {
+            0
+        }
     }
 
     pub fn set_visited(&mut self, v: usize, on: bool) {
@@ -124,10 +272,29 @@ impl Tiles {
     }
 
     pub fn or_open(&mut self, v: usize, bits: u8) {
-        if self.open(v) | bits != self.open(v) {
-            let (t, k) = self.at_mut(v);
-            t.or_byte(k, bits);
+        let had = self.open(v);
+        if had | bits == had {
+            return;
         }
+        self.set_mask(v, had | bits);
+        if had == 0 {
+            let (t, k) = self.at_mut(v);
+            t.set_bit(MASKED, k, true);
+        }
+    }
+
+    /// Makes the table's entry for `v` read `byte` (not 0). An entry
+    /// nobody holds is 0 and may be filled in place; one that other maps
+    /// may hold is changed in a copy of the table, this map's alone.
+    fn set_mask(&mut self, v: usize, byte: u8) {
+        let entry = self.mask(v);
+        if entry == byte {
+            return;
+        }
+        if entry != 0 && Rc::strong_count(&self.masks) > 1 {
+            self.masks = Rc::new(Masks::clone(&self.masks));
+        }
+        self.masks[v].set(byte);
     }
 
     /// `self ∪= other`, tile by tile: shared tiles are skipped, and a tile
@@ -135,22 +302,58 @@ impl Tiles {
     /// then on). Maps of different sizes merge over the common tiles.
     pub fn merge(&mut self, other: &Tiles) {
         let empty = empty();
-        for (mine, theirs) in self.tiles.iter_mut().zip(&other.tiles) {
-            if Rc::ptr_eq(mine, theirs) || Rc::ptr_eq(theirs, &empty) {
-                continue;
+        let n = self.tiles.len().min(other.tiles.len());
+        // The other map's list of tiles is cold too.
+        for t in other.tiles.iter().step_by(64 / size_of::<Rc<Tile>>()) {
+            prefetch_addr(std::ptr::from_ref(t).cast());
+        }
+        let mut todo = [0; BATCH];
+        let mut i = 0;
+        while i < n {
+            let mut k = 0;
+            while i < n && k < BATCH {
+                let theirs = &other.tiles[i];
+                if !Rc::ptr_eq(&self.tiles[i], theirs) && !Rc::ptr_eq(theirs, &empty) {
+                    prefetch(&self.tiles[i]);
+                    prefetch(theirs);
+                    todo[k] = i;
+                    k += 1;
+                }
+                i += 1;
             }
-            let (more, less) = mine.differences(theirs);
+            self.merge_batch(other, &todo[..k]);
+        }
+    }
+
+    /// Merges the tiles `todo` of `other`, which differ from this map's.
+    /// Every comparison comes before any decision, so the tiles, which
+    /// are all over memory, are fetched together rather than one after
+    /// another (this loop was mostly waiting for them).
+    fn merge_batch(&mut self, other: &Tiles, todo: &[usize]) {
+        if !Rc::ptr_eq(&self.masks, &other.masks) {
+            // Another table: its bytes come over one by one (a robot
+            // process merging a map it decoded), and the tile's masked
+            // bits with them, so the words below agree on them.
+            for &i in todo {
+                for k in other.tiles[i].masked() {
+                    let v = i * TILE + k;
+                    self.or_open(v, other.mask(v));
+                }
+            }
+        }
+        let mut diff = [(false, false); BATCH];
+        for (d, &i) in diff.iter_mut().zip(todo) {
+            *d = self.tiles[i].differences(&other.tiles[i]);
+        }
+        for (&(more, less), &i) in diff.iter().zip(todo) {
+            let (mine, theirs) = (&mut self.tiles[i], &other.tiles[i]);
             // Equal tiles too: shared from now on, the next merge skips them.
             if !less {
                 *mine = Rc::clone(theirs);
-                continue;
-            }
-            if !more {
-                continue;
-            }
-            let m = Rc::make_mut(mine);
-            for (a, b) in m.0.iter_mut().zip(&theirs.0) {
-                *a |= b;
+            } else if more {
+                for (a, b) in Rc::make_mut(mine).0.iter_mut().zip(&theirs.0) {
+                    *a |= b;
+                }
             }
         }
     }
@@ -171,8 +374,11 @@ impl Tiles {
         (0..self.vertices).map(|v| self.open(v))
     }
 
-    /// Tiles from flat bitsets and masks; `None` unless both bitsets have
-    /// one word per 64 of `open`'s vertices and no bit past its end.
+    /// Tiles from flat bitsets and masks, reading the thread's shared
+    /// table if one is installed (a robot process: then merging what it
+    /// decodes moves no mask byte) and agrees, else a table of their own;
+    /// `None` unless both bitsets have one word per 64 of `open`'s
+    /// vertices and no bit past its end.
     pub fn from_flat(visited: &[u64], known: &[u64], open: &[u8]) -> Option<Self> {
         let vertices = open.len();
         let words = vertices.div_ceil(64);
@@ -183,7 +389,13 @@ impl Tiles {
         if past(visited) || past(known) {
             return None;
         }
-        let mut t = Tiles::new(vertices);
+        let n = vertices.div_ceil(TILE);
+        let mut t = Tiles { vertices, tiles: vec![empty(); n], masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)) };
+        for (v, &b) in open.iter().enumerate() {
+            if b != 0 {
+                t.set_mask(v, b);
+            }
+        }
         for (k, slot) in t.tiles.iter_mut().enumerate() {
             let mut tile = Tile::EMPTY;
             for w in 0..BITS {
@@ -191,7 +403,7 @@ impl Tiles {
                 tile.0[KNOWN + w] = known.get(k * BITS + w).copied().unwrap_or(0);
             }
             for (i, &b) in open.iter().skip(k * TILE).take(TILE).enumerate() {
-                tile.or_byte(i, b);
+                tile.set_bit(MASKED, i, b != 0);
             }
             if tile != Tile::EMPTY {
                 *slot = Rc::new(tile);
@@ -206,7 +418,7 @@ impl Tiles {
             return false;
         };
         let first = self.vertices - (self.tiles.len() - 1) * TILE;
-        (first..TILE).any(|k| last.bit(VISITED, k) || last.bit(KNOWN, k) || last.byte(k) != 0)
+        (first..TILE).any(|k| last.bit(VISITED, k) || last.bit(KNOWN, k) || last.bit(MASKED, k))
     }
 
     /// Tiles held by this map alone (for tests of sharing).
@@ -217,5 +429,10 @@ impl Tiles {
     /// Whether two maps hold the very same tile for vertex `v`.
     pub fn shares(&self, other: &Tiles, v: usize) -> bool {
         Rc::ptr_eq(&self.tiles[v / TILE], &other.tiles[v / TILE])
+    }
+
+    /// Whether two maps read their masks from the very same table.
+    pub fn shares_masks(&self, other: &Tiles) -> bool {
+        Rc::ptr_eq(&self.masks, &other.masks)
     }
 }
