@@ -19,7 +19,8 @@ fn rows(dir: &Path) -> Vec<(u64, f64, f64, f64)> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
-    let (n, rounds, p50, p99) = (col("robots"), col("median_rounds"), col("round_wall_p50_ms"), col("round_wall_p99_ms"));
+    let (n, rounds, p50, p99) =
+        (col("robots"), col("median_rounds"), col("round_wall_p50_ms"), col("round_wall_p99_ms"));
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();

@@ -25,7 +25,9 @@ fn assert_cut_by_budget(o: &Output) -> u64 {
     assert_eq!(s["rounds"].as_u64(), Some(limit), "{s}");
     assert_eq!(s["ended_by"], "max_rounds", "{s}");
     let err = text(&o.stderr);
-    let note = format!("note: stopped at the round limit {limit} set by the work budget MAX_SEARCH_WORK = {MAX_SEARCH_WORK:e}");
+    let note = format!(
+        "note: stopped at the round limit {limit} set by the work budget MAX_SEARCH_WORK = {MAX_SEARCH_WORK:e}"
+    );
     assert!(err.contains(&note), "{err}");
     assert!(err.contains("--max-rounds N"), "{err}");
     limit
@@ -92,7 +94,14 @@ fn every_rule_of_a_big_team_stops_at_the_budget() {
     // search space (14 and 6.7 GB on main) and now share it.
     for (rule, most) in [("lfp", 2), ("escape", 9), ("frontier", 9)] {
         let o = gridswarm(&[
-            "simulate", "--scenario", "random:1,size=180x180", "--robots", "10000", "--algorithm", rule, "--json",
+            "simulate",
+            "--scenario",
+            "random:1,size=180x180",
+            "--robots",
+            "10000",
+            "--algorithm",
+            rule,
+            "--json",
         ]);
         let limit = assert_cut_by_budget(&o);
         assert!(limit <= most, "{rule}: {limit}");

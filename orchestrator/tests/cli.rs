@@ -341,7 +341,11 @@ fn simulate_kill_mid_round_is_detected_by_the_robots() {
     // A crash 0.3 s into round 4: not at a slot boundary.
     let at = num(&f[0], "at_s");
     let base = simulate_json(&["--robots", "6", "--seed", "3", "--max-rounds", "4"]);
-    assert!((at - num(&base, "search_time_s") - 0.3).abs() < 1e-6, "crash at {at} s, round 4 began at {}", base["search_time_s"]);
+    assert!(
+        (at - num(&base, "search_time_s") - 0.3).abs() < 1e-6,
+        "crash at {at} s, round 4 began at {}",
+        base["search_time_s"]
+    );
     assert!(!f[0]["declared_by"].as_array().unwrap().is_empty(), "{f:?}");
     assert!(f[0]["detection_delay_s"].as_f64().unwrap() > 0.0);
     assert!(f[0]["detection_delay_rounds"].as_u64().is_some());
@@ -355,7 +359,11 @@ fn simulate_kill_mid_round_is_detected_by_the_robots() {
     let o = gridswarm(&["simulate", "--robots", "6", "--seed", "3", "--kill", "2@4+0.3"]);
     assert_ok(&o);
     let line = stdout(&o).lines().find(|l| l.starts_with("failure: robot 2 crash")).map(String::from);
-    assert!(line.as_deref().is_some_and(|l| l.contains("declared after") && l.contains("s simulated")), "{}", stdout(&o));
+    assert!(
+        line.as_deref().is_some_and(|l| l.contains("declared after") && l.contains("s simulated")),
+        "{}",
+        stdout(&o)
+    );
 }
 
 #[test]
@@ -461,7 +469,8 @@ fn bad_fault_flags_give_one_line_and_exit_2() {
 #[test]
 fn experiment_failures_runs_in_process_and_writes_its_files() {
     let d = scratch("failures");
-    let o = gridswarm(&["experiment", "failures", "--robots", "6", "--killed", "0-2", "--runs", "30", "--out", path(&d)]);
+    let o =
+        gridswarm(&["experiment", "failures", "--robots", "6", "--killed", "0-2", "--runs", "30", "--out", path(&d)]);
     assert_ok(&o);
     let text = stdout(&o);
     assert!(text.contains("engine in-process") && text.contains("killed") && text.contains("delay (rounds)"), "{text}");
@@ -503,7 +512,20 @@ fn experiment_failures_runs_in_process_and_writes_its_files() {
 #[test]
 fn experiment_radio_writes_its_files_and_table() {
     let d = scratch("radio");
-    let args = ["experiment", "radio", "--loss", "0,0.2", "--robots", "4", "--retries", "0,1", "--runs", "8", "--out", path(&d)];
+    let args = [
+        "experiment",
+        "radio",
+        "--loss",
+        "0,0.2",
+        "--robots",
+        "4",
+        "--retries",
+        "0,1",
+        "--runs",
+        "8",
+        "--out",
+        path(&d),
+    ];
     let o = gridswarm(&args);
     assert_ok(&o);
     let text = stdout(&o);

@@ -102,12 +102,23 @@ fn series_agree_with_the_engine() {
             // The engine tests the bent path's sub-steps, the replay the
             // round's straight net motion: either may see a pair the other
             // misses (seed 6 with isotropic turning: replay 1, engine 0).
-            assert!(s.collisions.len().abs_diff(result.collisions as usize) <= 2, "{} vs {}", s.collisions.len(), result.collisions);
+            assert!(
+                s.collisions.len().abs_diff(result.collisions as usize) <= 2,
+                "{} vs {}",
+                s.collisions.len(),
+                result.collisions
+            );
         } else if policy == Policy::Ru {
             assert_eq!(last, coverage, "{policy:?}");
             // Robots that collide back off (params.ru_collisions): the poses
             // show only the collisions of robots that got through.
-            assert!(s.collisions.len() as u32 <= result.collisions, "{} > {}: {:?}", s.collisions.len(), result.collisions, &s.collisions[..s.collisions.len().min(5)]);
+            assert!(
+                s.collisions.len() as u32 <= result.collisions,
+                "{} > {}: {:?}",
+                s.collisions.len(),
+                result.collisions,
+                &s.collisions[..s.collisions.len().min(5)]
+            );
         } else {
             assert_eq!(last, coverage, "{policy:?}");
             assert_eq!(s.collisions.len() as u32, result.collisions, "{policy:?}");
@@ -123,7 +134,11 @@ fn series_agree_with_the_engine() {
         assert_eq!(counts.iter().sum::<u32>(), result.collisions, "{policy:?}");
         assert_eq!(replay::data(&rec)["collision_counts"], json!(counts));
         if policy == Policy::Ru {
-            assert!(s.collisions.len() < result.collisions as usize, "this seed should back off unseen: {} marks", s.collisions.len());
+            assert!(
+                s.collisions.len() < result.collisions as usize,
+                "this seed should back off unseen: {} marks",
+                s.collisions.len()
+            );
         }
     }
 }

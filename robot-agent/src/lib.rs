@@ -36,19 +36,19 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
+use gridswarm::choice::registry::{self, Factory};
 use gridswarm::grid::Grid;
 use gridswarm::ipc::{self, names};
-use gridswarm::choice::registry::{self, Factory};
-use gridswarm::peer::Peer;
-use gridswarm::policy::Policy;
-use gridswarm::protocol::{self, Frame, Limits};
 use gridswarm::net::{NetConfig, ZenohAgent};
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
+use gridswarm::peer::Peer;
+use gridswarm::policy::Policy;
+use gridswarm::protocol::{self, Frame, Limits};
 use gridswarm::scenario::Scenario;
 use gridswarm::setup::RobotSetup;
-use gridswarm::transport::{AgentTransport, Transport};
 use gridswarm::sim::{Note, Output};
+use gridswarm::transport::{AgentTransport, Transport};
 use gridswarm::wire::{self, AgentOutput, Assembler, Bytes, ToAgent, ToWorld, Wake, WireLimits, WireSend};
 use iceoryx2::prelude::*;
 
@@ -241,7 +241,9 @@ fn read_setup(path: &PathBuf) -> Result<RobotSetup, String> {
 /// The names of the grid algorithms this process can run.
 fn rule_names() -> Vec<&'static str> {
     let built_in = Policy::ALL.into_iter().filter(|p| p.on_grid()).map(Policy::name);
-    built_in.chain(registry::custom_names().into_iter().filter(|n| n.parse().is_ok_and(|p| registry::runnable(p).is_ok()))).collect()
+    built_in
+        .chain(registry::custom_names().into_iter().filter(|n| n.parse().is_ok_and(|p| registry::runnable(p).is_ok())))
+        .collect()
 }
 
 fn run(args: &Args, setup: &RobotSetup) -> Result<Exit, String> {

@@ -48,11 +48,7 @@ fn without_a_world_it_fails_at_once() {
     // A prefix no world ever created: the services cannot be opened.
     let prefix = format!("gs{}x{:06x}_", std::process::id(), 0xbad);
     let setup = setup_file("noworld", None);
-    let out = agent()
-        .args(["--prefix", &prefix, "--world-pid", "1", "--setup"])
-        .arg(&setup.0)
-        .output()
-        .unwrap();
+    let out = agent().args(["--prefix", &prefix, "--world-pid", "1", "--setup"]).arg(&setup.0).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.starts_with("robot-agent 0: error: cannot open service"), "{err}");

@@ -23,7 +23,11 @@ fn elf_type(bytes: &[u8]) -> Result<u16, String> {
 fn the_agent_is_not_position_independent() {
     let bin = env!("CARGO_BIN_EXE_robot-agent");
     let bytes = fs::read(bin).unwrap_or_else(|e| panic!("cannot read {bin}: {e}"));
-    assert_eq!(elf_type(&bytes), Ok(ET_EXEC), "{bin} is linked as a PIE again: every agent would relocate its data at start");
+    assert_eq!(
+        elf_type(&bytes),
+        Ok(ET_EXEC),
+        "{bin} is linked as a PIE again: every agent would relocate its data at start"
+    );
 }
 
 #[test]

@@ -12,11 +12,16 @@ fn main() {
     cfg.record_trajectories = true;
     let r = engine::run(&world, &starts, &cfg);
     for (k, t) in r.trajectories.iter().enumerate() {
-        let last: Vec<String> = t.iter().rev().take(12).map(|p| format!("{:?}", p.vertex.map(|c| (c.i, c.j)).unwrap())).collect();
+        let last: Vec<String> =
+            t.iter().rev().take(12).map(|p| format!("{:?}", p.vertex.map(|c| (c.i, c.j)).unwrap())).collect();
         println!("robot {k} last positions (newest first): {}", last.join(" "));
     }
     let va = world.reachable_from(&starts);
-    let unvisited: Vec<String> = (0..world.grid.len()).filter(|&v| va[v]).map(|v| world.grid.coord(v as u32)).map(|c| format!("({},{})", c.i, c.j)).collect();
+    let unvisited: Vec<String> = (0..world.grid.len())
+        .filter(|&v| va[v])
+        .map(|v| world.grid.coord(v as u32))
+        .map(|c| format!("({},{})", c.i, c.j))
+        .collect();
     println!("Va: {}", unvisited.join(" "));
     println!("rounds {} ended {} collisions {} {:?}", r.rounds, r.protocol.ended_by, r.collisions, vopr::check(&r, 1));
     println!("failures {:?}", r.protocol.failures);

@@ -8,9 +8,9 @@ use std::rc::Rc;
 use std::sync::OnceLock;
 
 use crate::grid::VertexId;
+use crate::lfp::{self, LfpParams};
 use crate::map::tiles::SharedMasks;
 use crate::map::Map;
-use crate::lfp::{self, LfpParams};
 use crate::outcome::{RunConfig, RunResult};
 use crate::peer::Peer;
 use crate::policy::Policy;
@@ -71,7 +71,8 @@ impl<'w> Prepared<'w> {
 fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
     // Every robot's map reads its edge masks from one table: they are physics.
     let _masks = SharedMasks::new(world.grid.len());
-    let peers = (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
+    let peers =
+        (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
     let mut local = Local { peers, out: Output::default(), maps: Vec::new(), frames: Vec::new() };
     Kernel::new(world, starts, cfg).run(&mut local)
 }

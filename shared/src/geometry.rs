@@ -221,7 +221,8 @@ mod tests {
 
     #[test]
     fn bowtie_is_not_simple() {
-        let b = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(1.0, 1.0), Point::new(1.0, 0.0), Point::new(0.0, 1.0)]);
+        let b =
+            Polygon::new(vec![Point::new(0.0, 0.0), Point::new(1.0, 1.0), Point::new(1.0, 0.0), Point::new(0.0, 1.0)]);
         assert!(!b.is_simple());
     }
 

@@ -72,10 +72,8 @@ pub const EXIT_WORLD_GONE: i32 = 3;
 /// A fresh prefix for a run owned by this process: `gs<pid>x<nonce>_`.
 pub fn new_prefix() -> String {
     static COUNTER: AtomicU32 = AtomicU32::new(0);
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.subsec_nanos())
-        .unwrap_or(0);
+    let nanos =
+        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.subsec_nanos()).unwrap_or(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     let nonce = crate::rng::mix(((nanos as u64) << 20) ^ n as u64) & 0xff_ffff;
     format!("{PREFIX_HEAD}{}x{nonce:06x}_", std::process::id())
@@ -99,22 +97,17 @@ pub fn prefix_owner(prefix: &str) -> Option<u32> {
 /// The iceoryx2 configuration of the run with this prefix, built in code.
 pub fn config(prefix: &str) -> Result<Config, String> {
     if prefix_owner(prefix).is_none() {
-        return Err(format!(
-            "`{prefix}` is not a run prefix (expected gs<pid>x<hex>_)"
-        ));
+        return Err(format!("`{prefix}` is not a run prefix (expected gs<pid>x<hex>_)"));
     }
     let mut c = Config::default();
-    c.global.prefix =
-        FileName::new(prefix.as_bytes()).map_err(|e| format!("bad prefix `{prefix}`: {e:?}"))?;
+    c.global.prefix = FileName::new(prefix.as_bytes()).map_err(|e| format!("bad prefix `{prefix}`: {e:?}"))?;
     // Its own root, not the `/tmp/iceoryx2/` every user shares (see [`private`]).
     let root = run_root(prefix);
     let root_path = iceoryx2::prelude::Path::new(root.as_os_str().as_encoded_bytes())
         .map_err(|e| format!("iceoryx2 cannot use {} as its root folder: {e:?}", root.display()))?;
     c.global.set_root_path(&root_path);
     // Big memory win (notes: ~470 KB -> ~28 KB of heap per subscriber).
-    c.defaults
-        .publish_subscribe
-        .subscriber_expired_connection_buffer = 2;
+    c.defaults.publish_subscribe.subscriber_expired_connection_buffer = 2;
     // A run's prefix is fresh: there are no dead nodes to look for when a
     // node or service comes up, and scanning 200 nodes on every one of 200
     // starts is quadratic. The run removes its own files when it ends.
@@ -178,8 +171,7 @@ pub fn node_name(name: &str) -> Result<NodeName, String> {
 
 /// The iceoryx2 service flavour every process of a run uses.
 pub type Svc = iceoryx2::prelude::ipc::Service;
-pub type BytesService =
-    iceoryx2::service::port_factory::publish_subscribe::PortFactory<Svc, [u8], ()>;
+pub type BytesService = iceoryx2::service::port_factory::publish_subscribe::PortFactory<Svc, [u8], ()>;
 pub type EventService = iceoryx2::service::port_factory::event::PortFactory<Svc>;
 pub type BytesPublisher = iceoryx2::port::publisher::Publisher<Svc, [u8], ()>;
 pub type BytesSubscriber = iceoryx2::port::subscriber::Subscriber<Svc, [u8], ()>;
@@ -243,12 +235,7 @@ pub fn open_bytes(node: &Node<Svc>, name: &str, buffer: usize) -> Result<BytesSe
 
 /// Creates an event service with room for `notifiers` notifiers, one
 /// listener, and event ids up to `max_id`.
-pub fn create_event(
-    node: &Node<Svc>,
-    name: &str,
-    notifiers: usize,
-    max_id: usize,
-) -> Result<EventService, String> {
+pub fn create_event(node: &Node<Svc>, name: &str, notifiers: usize, max_id: usize) -> Result<EventService, String> {
     node.service_builder(&service_name(name)?)
         .event()
         .max_notifiers(notifiers)
@@ -279,31 +266,19 @@ pub fn bytes_publisher(service: &BytesService, max_len: usize) -> Result<BytesPu
 }
 
 pub fn bytes_subscriber(service: &BytesService, buffer: usize) -> Result<BytesSubscriber, String> {
-    service
-        .subscriber_builder()
-        .buffer_size(buffer)
-        .create()
-        .map_err(|e| format!("cannot create subscriber: {e:?}"))
+    service.subscriber_builder().buffer_size(buffer).create().map_err(|e| format!("cannot create subscriber: {e:?}"))
 }
 
 /// Publishes one message.
 pub fn publish(publisher: &BytesPublisher, bytes: &[u8]) -> Result<(), String> {
-    let sample = publisher
-        .loan_slice_uninit(bytes.len())
-        .map_err(|e| format!("cannot loan a sample: {e:?}"))?;
-    sample
-        .write_from_slice(bytes)
-        .send()
-        .map_err(|e| format!("cannot send: {e:?}"))?;
+    let sample = publisher.loan_slice_uninit(bytes.len()).map_err(|e| format!("cannot loan a sample: {e:?}"))?;
+    sample.write_from_slice(bytes).send().map_err(|e| format!("cannot send: {e:?}"))?;
     Ok(())
 }
 
 /// Takes the next message, if any, into `buf`.
 pub fn receive(subscriber: &BytesSubscriber, buf: &mut Vec<u8>) -> Result<bool, String> {
-    match subscriber
-        .receive()
-        .map_err(|e| format!("cannot receive: {e:?}"))?
-    {
+    match subscriber.receive().map_err(|e| format!("cannot receive: {e:?}"))? {
         Some(sample) => {
             buf.clear();
             buf.extend_from_slice(sample.payload());
@@ -332,11 +307,7 @@ pub fn list_nodes(config: &Config) -> Result<Vec<NodeInfo>, String> {
             _ => (None, false),
         };
         if let Some(d) = details {
-            out.push(NodeInfo {
-                name: d.name().to_string(),
-                pid: Some(d.process_id().value() as u32),
-                dead,
-            });
+            out.push(NodeInfo { name: d.name().to_string(), pid: Some(d.process_id().value() as u32), dead });
         }
         CallbackProgression::Continue
     })
@@ -394,9 +365,7 @@ pub fn cpu_ms_of(pid: u32) -> f64 {
 
 /// Number of open file descriptors of this process.
 pub fn open_fds() -> usize {
-    fs::read_dir("/proc/self/fd")
-        .map(|d| d.count().saturating_sub(1))
-        .unwrap_or(0)
+    fs::read_dir("/proc/self/fd").map(|d| d.count().saturating_sub(1)).unwrap_or(0)
 }
 
 /// Peak resident set size of this process, in KiB (`VmHWM`).
@@ -418,14 +387,9 @@ fn status_field(file: &str, key: &str) -> u64 {
     fs::read_to_string(file)
         .ok()
         .and_then(|s| {
-            s.lines().find(|l| l.starts_with(key)).and_then(|l| {
-                l[key.len()..]
-                    .trim()
-                    .trim_end_matches("kB")
-                    .trim()
-                    .parse()
-                    .ok()
-            })
+            s.lines()
+                .find(|l| l.starts_with(key))
+                .and_then(|l| l[key.len()..].trim().trim_end_matches("kB").trim().parse().ok())
         })
         .unwrap_or(0)
 }
@@ -491,16 +455,7 @@ mod tests {
         let p = new_prefix();
         assert_eq!(prefix_owner(&p), Some(std::process::id()));
         assert_ne!(new_prefix(), p);
-        for bad in [
-            "",
-            "gs",
-            "gs12x_",
-            "gsx12_",
-            "gs12x12",
-            "iox2_",
-            "gs1x2y_",
-            "gs12x12_/..",
-        ] {
+        for bad in ["", "gs", "gs12x_", "gsx12_", "gs12x12", "iox2_", "gs1x2y_", "gs12x12_/.."] {
             assert_eq!(prefix_owner(bad), None, "{bad}");
         }
         assert!(config("iox2_").is_err());

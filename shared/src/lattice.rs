@@ -225,8 +225,8 @@ mod tests {
             for &p in &cs {
                 for &q in &cs {
                     let (pp, qp) = (l.position(p), l.position(q));
-                    let by_pos = (pp.x - qp.x).abs() > 1e-9 && pp.x > qp.x
-                        || (pp.x - qp.x).abs() <= 1e-9 && pp.y > qp.y + 1e-9;
+                    let by_pos =
+                        (pp.x - qp.x).abs() > 1e-9 && pp.x > qp.x || (pp.x - qp.x).abs() <= 1e-9 && pp.y > qp.y + 1e-9;
                     assert_eq!(by_pos, l.priority_key(p) > l.priority_key(q), "{kind:?} {p:?} {q:?}");
                 }
             }

@@ -263,7 +263,15 @@ struct Robot {
 impl Robot {
     /// At rest, with a new flight due.
     fn new(rng: ChaCha8Rng) -> Self {
-        Robot { heading: Vector::zeros(), facing: Vector::zeros(), rem: 0.0, step: 0.0, moving: false, repelled: false, rng }
+        Robot {
+            heading: Vector::zeros(),
+            facing: Vector::zeros(),
+            rem: 0.0,
+            step: 0.0,
+            moving: false,
+            repelled: false,
+            rng,
+        }
     }
 }
 

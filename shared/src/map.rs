@@ -65,7 +65,12 @@ struct Flat<T, F, A> {
 
 impl Clone for Map {
     fn clone(&self) -> Self {
-        Map { cells: self.cells.clone(), targets: self.targets.clone(), failed: self.failed.clone(), alive: self.alive.clone() }
+        Map {
+            cells: self.cells.clone(),
+            targets: self.targets.clone(),
+            failed: self.failed.clone(),
+            alive: self.alive.clone(),
+        }
     }
 
     /// Field by field, keeping this map's allocations: a robot copies its
@@ -214,10 +219,7 @@ impl Map {
 
     /// Robots failed now, with the vertex each blocks for good.
     pub fn failed_now(&self) -> impl Iterator<Item = (RobotId, VertexId)> + '_ {
-        self.failed
-            .iter()
-            .filter(|f| self.alive_round(f.robot).is_none_or(|r| r < f.round))
-            .map(|f| (f.robot, f.at))
+        self.failed.iter().filter(|f| self.alive_round(f.robot).is_none_or(|r| r < f.round)).map(|f| (f.robot, f.at))
     }
 
     /// Whether some robot counts as failed now.
@@ -252,7 +254,8 @@ impl Map {
         }
         let past = |w: &[u64], n: usize| {
             let (full, rem) = (n / 64, n % 64);
-            (rem > 0 && w.get(full).is_some_and(|&x| x >> rem != 0)) || w.iter().skip(full + usize::from(rem > 0)).any(|&x| x != 0)
+            (rem > 0 && w.get(full).is_some_and(|&x| x >> rem != 0))
+                || w.iter().skip(full + usize::from(rem > 0)).any(|&x| x != 0)
         };
         if self.cells.past_end() || past(self.targets.words(), targets) {
             return Err("map sets a bit past the end".into());
@@ -397,7 +400,11 @@ mod tests {
                 proptest::prop_assert!(ab.cells().shares(b.cells(), v as usize));
             }
         }
-        proptest::prop_assert_eq!(postcard::to_allocvec(a).unwrap(), before_a, "merging into a copy changed the original");
+        proptest::prop_assert_eq!(
+            postcard::to_allocvec(a).unwrap(),
+            before_a,
+            "merging into a copy changed the original"
+        );
         proptest::prop_assert_eq!(postcard::to_allocvec(b).unwrap(), before_b);
         proptest::prop_assert_eq!(ab.has_unvisited(), (0..n).any(|v| ab.known(v) && !ab.visited(v)));
         Ok(ab)

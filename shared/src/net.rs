@@ -79,9 +79,7 @@ impl NetConfig {
     /// zenoh's configuration for a process in `mode` (`router`, `client`).
     fn zenoh(&self, mode: &str) -> Result<zenoh::Config, String> {
         let mut c = zenoh::Config::default();
-        let mut set = |k: &str, v: String| {
-            c.insert_json5(k, &v).map_err(|e| format!("zenoh setting {k} = {v}: {e}"))
-        };
+        let mut set = |k: &str, v: String| c.insert_json5(k, &v).map_err(|e| format!("zenoh setting {k} = {v}: {e}"));
         set("mode", quote(mode)?)?;
         set("scouting/multicast/enabled", self.scouting().to_string())?;
         // Robots talk to the world only: nothing to gossip about.

@@ -84,6 +84,9 @@ mod tests {
         assert_eq!(ensure(1, "x"), Ok(soft), "enough: nothing changes");
         let err = ensure(u64::MAX, "a run of many robots").unwrap_err();
         assert!(err.starts_with(&format!("a run of many robots needs {}", u64::MAX)), "{err}");
-        assert!(err.contains(&format!("ulimit -n {}", u64::MAX)) && err.contains(&format!("hard limit {hard}")), "{err}");
+        assert!(
+            err.contains(&format!("ulimit -n {}", u64::MAX)) && err.contains(&format!("hard limit {hard}")),
+            "{err}"
+        );
     }
 }

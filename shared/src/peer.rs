@@ -323,7 +323,11 @@ impl<'g> Peer<'g> {
             }
             None => robot.map().clone(),
         };
-        self.send(out, Frame::Map { round: tick.round, from: me, at: tick.at, halted, stop: self.stop_known, map }, now);
+        self.send(
+            out,
+            Frame::Map { round: tick.round, from: me, at: tick.at, halted, stop: self.stop_known, map },
+            now,
+        );
         if self.cfg.robot.situation == Situation::One {
             let new: Vec<u32> = tick.targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();
             if !new.is_empty() {
@@ -534,8 +538,8 @@ impl<'g> Peer<'g> {
                 robot.clear_body(v);
                 continue;
             }
-            let explained = self.heard.iter().any(|h| h.map && h.at == v)
-                || robot.map().failed_now().any(|(_, at)| at == v);
+            let explained =
+                self.heard.iter().any(|h| h.map && h.at == v) || robot.map().failed_now().any(|(_, at)| at == v);
             if explained {
                 continue;
             }
@@ -681,5 +685,6 @@ impl<'g> Peer<'g> {
 fn compatible(robot: &Robot, a0: VertexId, a1: VertexId, b0: VertexId, b1: VertexId) -> bool {
     let g = robot.grid();
     a1 != b1
-        && swept_min_distance(g.position(a0), g.position(a1), g.position(b0), g.position(b1)) >= 2.0 * robot.config().r_safe
+        && swept_min_distance(g.position(a0), g.position(a1), g.position(b0), g.position(b1))
+            >= 2.0 * robot.config().r_safe
 }

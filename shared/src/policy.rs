@@ -35,8 +35,15 @@ pub enum Policy {
 
 impl Policy {
     /// The built-in algorithms.
-    pub const ALL: [Policy; 7] =
-        [Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Lfp, Policy::Escape, Policy::Frontier, Policy::Oracle];
+    pub const ALL: [Policy; 7] = [
+        Policy::Repulsive,
+        Policy::Sequential,
+        Policy::Ru,
+        Policy::Lfp,
+        Policy::Escape,
+        Policy::Frontier,
+        Policy::Oracle,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {

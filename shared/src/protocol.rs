@@ -67,7 +67,9 @@ impl Frame {
         let (kind, tag) = match self {
             Frame::Map { .. } => (KIND_MAP, 0),
             Frame::Choice { .. } => (KIND_CHOICE, 0),
-            Frame::Ack { acked, refused, .. } => (KIND_ACK, acked.iter().chain(refused).fold(0, |t, &r| t | Listen::bit(r))),
+            Frame::Ack { acked, refused, .. } => {
+                (KIND_ACK, acked.iter().chain(refused).fold(0, |t, &r| t | Listen::bit(r)))
+            }
             Frame::Commit { .. } => (KIND_COMMIT, 0),
             Frame::Flood { targets, stop, .. } => {
                 let tag = targets.iter().fold(0, |t, &x| t | if x < 63 { 1 << x } else { FLOOD_OTHER });

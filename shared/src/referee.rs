@@ -16,9 +16,9 @@
 
 use crate::bitset::Bitset;
 use crate::geometry::{swept_min_distance, Point};
-use crate::near::Cells;
 use crate::grid::{VertexId, NONE};
 use crate::lattice::Coord;
+use crate::near::Cells;
 use crate::params::RuCollisions;
 use crate::world::World;
 
@@ -348,7 +348,12 @@ mod tests {
     use crate::params::Params;
 
     fn world(mode: RuCollisions) -> World {
-        let area = Polygon::new(vec![Point::new(-5.0, -5.0), Point::new(5.0, -5.0), Point::new(5.0, 5.0), Point::new(-5.0, 5.0)]);
+        let area = Polygon::new(vec![
+            Point::new(-5.0, -5.0),
+            Point::new(5.0, -5.0),
+            Point::new(5.0, 5.0),
+            Point::new(-5.0, 5.0),
+        ]);
         let params = Params { ru_collisions: mode, ..Params::default() };
         World::new(area, vec![], vec![], params, LatticeKind::Triangular)
     }

@@ -45,7 +45,14 @@ pub struct RobotConfig {
 
 impl RobotConfig {
     /// A robot of `policy` with the default readings.
-    pub fn new(id: RobotId, policy: Policy, situation: Situation, targets_total: usize, r_safe: f64, seed: u64) -> Self {
+    pub fn new(
+        id: RobotId,
+        policy: Policy,
+        situation: Situation,
+        targets_total: usize,
+        r_safe: f64,
+        seed: u64,
+    ) -> Self {
         RobotConfig { id, policy, situation, targets_total, r_safe, seed, choices_update_maps: true }
     }
 }
@@ -129,7 +136,11 @@ pub struct Robot<'g> {
 
 impl std::fmt::Debug for Robot<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Robot").field("cfg", &self.cfg).field("pos", &self.pos).field("round", &self.round).finish_non_exhaustive()
+        f.debug_struct("Robot")
+            .field("cfg", &self.cfg)
+            .field("pos", &self.pos)
+            .field("round", &self.round)
+            .finish_non_exhaustive()
     }
 }
 
@@ -539,7 +550,12 @@ mod tests {
 
     #[test]
     fn vertices_cut_off_by_failed_robots_do_not_keep_the_search_going() {
-        let area = Polygon::new(vec![Point::new(-5.0, -5.0), Point::new(5.0, -5.0), Point::new(5.0, 5.0), Point::new(-5.0, 5.0)]);
+        let area = Polygon::new(vec![
+            Point::new(-5.0, -5.0),
+            Point::new(5.0, -5.0),
+            Point::new(5.0, 5.0),
+            Point::new(-5.0, 5.0),
+        ]);
         let w = World::new(area, vec![], vec![], Params::default(), LatticeKind::Triangular);
         let g = &w.grid;
         let v = g.id_of(Coord::new(0, 0)).unwrap();

@@ -53,7 +53,11 @@ impl RobotSetup {
 
     /// The grid frame, numbered as the world numbers it.
     pub fn grid(&self) -> Grid {
-        Grid::new(Lattice::new(self.lattice, self.params.a), Point::new(self.lo[0], self.lo[1]), Point::new(self.hi[0], self.hi[1]))
+        Grid::new(
+            Lattice::new(self.lattice, self.params.a),
+            Point::new(self.lo[0], self.lo[1]),
+            Point::new(self.hi[0], self.hi[1]),
+        )
     }
 
     pub fn peer_config(&self) -> PeerConfig {

@@ -94,7 +94,12 @@ fn faults(number: u64, robots: usize) -> Vec<Fault> {
         let late = 1000 * (1 + draw(number, 33, 800));
         out.push(Fault { robot, round, offset: draw(number, 34, 1_000_000), kind: FaultKind::Slow(late) });
         if chance(number, 35, 0.5) {
-            out.push(Fault { robot, round: round + 1 + draw(number, 36, 10) as u32, offset: 0, kind: FaultKind::Slow(0) });
+            out.push(Fault {
+                robot,
+                round: round + 1 + draw(number, 36, 10) as u32,
+                offset: 0,
+                kind: FaultKind::Slow(0),
+            });
         }
     }
     out

@@ -144,7 +144,10 @@ pub fn encode_wake_into(w: &WakeRef, out: &mut Vec<u8>) {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ToWorld {
     /// The agent is up: its robot number and process id.
-    Hello { robot: u32, pid: u32 },
+    Hello {
+        robot: u32,
+        pid: u32,
+    },
     Output(AgentOutput),
 }
 
@@ -400,7 +403,11 @@ mod tests {
             seq: w.seq,
             now: w.now,
             tick: w.tick.as_ref(),
-            frames: w.frames.iter().map(|f| WireFrameRef { from: f.from, at: f.at, bytes: ByteSlice(&f.bytes.0) }).collect(),
+            frames: w
+                .frames
+                .iter()
+                .map(|f| WireFrameRef { from: f.from, at: f.at, bytes: ByteSlice(&f.bytes.0) })
+                .collect(),
         };
         let mut out = vec![1, 2, 3];
         encode_wake_into(&r, &mut out);

@@ -61,8 +61,10 @@ impl Near {
             })
             .collect();
         let edges: Vec<(Point, Point)> = area.edges().collect();
-        let edge_boxes: Vec<(Point, Point)> =
-            edges.iter().map(|&(p, q)| (Point::new(p.x.min(q.x), p.y.min(q.y)), Point::new(p.x.max(q.x), p.y.max(q.y)))).collect();
+        let edge_boxes: Vec<(Point, Point)> = edges
+            .iter()
+            .map(|&(p, q)| (Point::new(p.x.min(q.x), p.y.min(q.y)), Point::new(p.x.max(q.x), p.y.max(q.y))))
+            .collect();
         let points: Vec<(Point, Point)> = targets.iter().map(|&t| (t, t)).collect();
         let one_column = (2.0 * (hi.x - lo.x).abs() + 1.0, a);
         Near {
@@ -78,7 +80,13 @@ impl Near {
     /// The even-odd test of the area ([`Polygon::contains`]) on the edges
     /// whose band holds `p`: the others cannot cross its ray.
     fn inside(&self, p: Point) -> bool {
-        self.edges_by_row.near(p).iter().filter(|&&k| crosses_ray(p, self.edges[k as usize].0, self.edges[k as usize].1)).count() % 2 == 1
+        self.edges_by_row
+            .near(p)
+            .iter()
+            .filter(|&&k| crosses_ray(p, self.edges[k as usize].0, self.edges[k as usize].1))
+            .count()
+            % 2
+            == 1
     }
 
     /// Area edges that may come within `r_safe` of `p` or of an edge from it.
@@ -90,14 +98,10 @@ impl Near {
     /// (`q` at most `a` from `p`).
     fn obstacles(&self, p: Point, q: Point) -> impl Iterator<Item = usize> + '_ {
         let (lo, hi) = (Point::new(p.x.min(q.x), p.y.min(q.y)), Point::new(p.x.max(q.x), p.y.max(q.y)));
-        self.by_cell
-            .near(p)
-            .iter()
-            .map(|&k| k as usize)
-            .filter(move |&k| {
-                let (a, b) = self.boxes[k];
-                lo.x <= b.x && hi.x >= a.x && lo.y <= b.y && hi.y >= a.y
-            })
+        self.by_cell.near(p).iter().map(|&k| k as usize).filter(move |&k| {
+            let (a, b) = self.boxes[k];
+            lo.x <= b.x && hi.x >= a.x && lo.y <= b.y && hi.y >= a.y
+        })
     }
 
     /// Targets that may be within `r_st` of `p`, ascending.
@@ -308,7 +312,8 @@ impl Raster {
                 if !self.inside[k] || hit[k] {
                     continue;
                 }
-                let p = Point::new(self.origin.x + (x as f64 + 0.5) * self.h, self.origin.y + (y as f64 + 0.5) * self.h);
+                let p =
+                    Point::new(self.origin.x + (x as f64 + 0.5) * self.h, self.origin.y + (y as f64 + 0.5) * self.h);
                 if (p - c).norm() <= r {
                     hit[k] = true;
                     detected += 1;
@@ -347,15 +352,21 @@ mod tests {
             })
             .collect();
         let near = (0..g.len() as VertexId)
-            .map(|v| (0..w.targets.len() as u32).filter(|&t| (w.targets[t as usize] - g.position(v)).norm() <= w.params.r_st).collect())
+            .map(|v| {
+                (0..w.targets.len() as u32)
+                    .filter(|&t| (w.targets[t as usize] - g.position(v)).norm() <= w.params.r_st)
+                    .collect()
+            })
             .collect();
         (accessible, open, near)
     }
 
     #[test]
     fn cells_change_nothing() {
-        let mut worlds: Vec<World> =
-            ["paper", "cave", "large", "open", "small"].iter().map(|n| crate::scenario::Scenario::builtin(n).unwrap().world()).collect();
+        let mut worlds: Vec<World> = ["paper", "cave", "large", "open", "small"]
+            .iter()
+            .map(|n| crate::scenario::Scenario::builtin(n).unwrap().world())
+            .collect();
         for seed in 1..=4 {
             let spec = format!("random:{seed},size=60x40,density=0.3,targets=40");
             worlds.push(crate::scenario::Scenario::load(&spec).unwrap().world());
@@ -400,7 +411,8 @@ mod tests {
         let w = World::new(rect(10.0, 10.0), vec![obstacle.clone()], vec![], params, LatticeKind::Triangular);
         for v in 0..w.grid.len() as VertexId {
             let p = w.grid.position(v);
-            let clear = p.x >= 0.3 && p.x <= 9.7 && p.y >= 0.3 && p.y <= 9.7 && (p - Point::new(5.0, 5.0)).norm() >= 1.3;
+            let clear =
+                p.x >= 0.3 && p.x <= 9.7 && p.y >= 0.3 && p.y <= 9.7 && (p - Point::new(5.0, 5.0)).norm() >= 1.3;
             assert_eq!(w.is_accessible(v), clear, "{p:?}");
         }
         // Every open edge keeps the clearance along its whole length.

@@ -11,7 +11,8 @@ use gridswarm::policy::Policy;
 use gridswarm::world::World;
 
 fn small_world() -> World {
-    let area = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(12.0, 0.0), Point::new(12.0, 9.0), Point::new(0.0, 9.0)]);
+    let area =
+        Polygon::new(vec![Point::new(0.0, 0.0), Point::new(12.0, 0.0), Point::new(12.0, 9.0), Point::new(0.0, 9.0)]);
     let obstacles = vec![
         Shape::Circle(Circle { center: Point::new(6.0, 4.5), radius: 1.2 }),
         Shape::Polygon(Polygon::new(vec![Point::new(2.0, 6.0), Point::new(4.0, 6.0), Point::new(3.0, 7.5)])),
@@ -80,7 +81,10 @@ fn print_some_runs() {
             let mut cfg = RunConfig::new(policy, 3, Situation::One);
             cfg.record_trajectories = false;
             let r = engine::run(&world, &starts(&world, n), &cfg);
-            println!("{policy} n={n} rounds={} t={:.1} found={}/{} coll={} cov={:?} complete={}", r.rounds, r.search_time_s, r.targets_found, r.targets_total, r.collisions, r.coverage, r.complete);
+            println!(
+                "{policy} n={n} rounds={} t={:.1} found={}/{} coll={} cov={:?} complete={}",
+                r.rounds, r.search_time_s, r.targets_found, r.targets_total, r.collisions, r.coverage, r.complete
+            );
         }
     }
 }
@@ -90,7 +94,8 @@ fn print_some_runs() {
 /// run never completed).
 #[test]
 fn more_than_65535_targets_are_all_found() {
-    let area = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(6.0, 0.0), Point::new(6.0, 5.0), Point::new(0.0, 5.0)]);
+    let area =
+        Polygon::new(vec![Point::new(0.0, 0.0), Point::new(6.0, 0.0), Point::new(6.0, 5.0), Point::new(0.0, 5.0)]);
     let n = 65_537;
     // A dense spiral of distinct points over the area's middle.
     let targets: Vec<Point> = (0..n)

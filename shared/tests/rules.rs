@@ -5,8 +5,8 @@
 
 use std::collections::BTreeSet;
 
-use gridswarm::geometry::{Point, Polygon};
 use gridswarm::choice::{self, registry, ChoiceRule, RuleRng, View};
+use gridswarm::geometry::{Point, Polygon};
 use gridswarm::grid::{Grid, VertexId};
 use gridswarm::lattice::{Coord, LatticeKind};
 use gridswarm::map::Map;
@@ -18,7 +18,12 @@ use gridswarm::world::World;
 const ALL_OPEN: u8 = 0b11_1111;
 
 fn world() -> World {
-    let area = Polygon::new(vec![Point::new(-10.0, -10.0), Point::new(10.0, -10.0), Point::new(10.0, 10.0), Point::new(-10.0, 10.0)]);
+    let area = Polygon::new(vec![
+        Point::new(-10.0, -10.0),
+        Point::new(10.0, -10.0),
+        Point::new(10.0, 10.0),
+        Point::new(-10.0, 10.0),
+    ]);
     World::new(area, vec![], vec![], Params::default(), LatticeKind::Triangular)
 }
 
@@ -240,7 +245,13 @@ fn corridor_map(grid: &Grid, stood: &[VertexId], edges: &[(VertexId, VertexId)])
     for &v in stood {
         let mut open = 0u8;
         for &(a, b) in edges {
-            let other = if a == v { b } else if b == v { a } else { continue };
+            let other = if a == v {
+                b
+            } else if b == v {
+                a
+            } else {
+                continue;
+            };
             open |= 1 << grid.slot_of(v, other).unwrap();
         }
         m.record_sensing(grid, v, open);
@@ -316,7 +327,10 @@ fn escape_takes_another_shortest_path_when_the_first_step_is_blocked() {
     let m = corridor_map(g, &[v, right, up, left], &[(v, right), (v, up), (v, left), (right, goal), (up, goal)]);
     for seed in 0..40 {
         let mut r = robot(g, Policy::Escape, seed, 0, v);
-        r.sense(0, &Sensing { open: open_to(g, v, &[right, up, left]), occupied: open_to(g, v, &[right]), targets: &[] });
+        r.sense(
+            0,
+            &Sensing { open: open_to(g, v, &[right, up, left]), occupied: open_to(g, v, &[right]), targets: &[] },
+        );
         r.receive_map(1, right, &m, false);
         // The higher-priority robot on (1, 0) stays there.
         r.receive_choice(1, right, right);
@@ -389,7 +403,10 @@ fn a_registered_rule_is_a_policy_by_name() {
         assert!(choice::register(bad, || Box::new(Last)).is_err(), "`{bad}` accepted");
     }
     let err = "no-such-rule".parse::<Policy>().unwrap_err();
-    assert!(err.contains("unknown algorithm `no-such-rule`") && err.contains("frontier") && err.contains("last-candidate"), "{err}");
+    assert!(
+        err.contains("unknown algorithm `no-such-rule`") && err.contains("frontier") && err.contains("last-candidate"),
+        "{err}"
+    );
     // Read from a file, a name passes; only building its robots needs the rule.
     let far: Policy = serde_json::from_str("\"elsewhere\"").unwrap();
     assert_eq!(far.name(), "elsewhere");

@@ -15,11 +15,7 @@ use serde_json::Value;
 /// binary crate has an integration test of its own, which makes cargo build it).
 pub fn bin_dir() -> PathBuf {
     let exe = std::env::current_exe().expect("test executable");
-    let dir = exe
-        .parent()
-        .and_then(Path::parent)
-        .expect("target/<profile>/deps/<test>")
-        .to_path_buf();
+    let dir = exe.parent().and_then(Path::parent).expect("target/<profile>/deps/<test>").to_path_buf();
     for b in ["gridswarm", "world-server", "robot-agent"] {
         assert!(
             dir.join(b).is_file(),
@@ -50,12 +46,7 @@ pub fn text(b: &[u8]) -> String {
 /// Runs `gridswarm run --json ARGS`, expects the search to finish
 /// ([`finished`]), returns the summary.
 pub fn run_json(args: &[&str]) -> Value {
-    let out = gridswarm()
-        .arg("run")
-        .arg("--json")
-        .args(args)
-        .output()
-        .expect("gridswarm runs");
+    let out = gridswarm().arg("run").arg("--json").args(args).output().expect("gridswarm runs");
     let v = finished(&out, args);
     assert_no_leftovers(v["ipc_prefix"].as_str().expect("the run names its prefix"));
     v
@@ -82,11 +73,7 @@ pub fn search(args: &[&str]) -> Output {
 /// Runs a gridswarm subcommand, expects success.
 pub fn ok(args: &[&str]) -> Output {
     let out = gridswarm().args(args).output().expect("gridswarm runs");
-    assert!(
-        out.status.success(),
-        "gridswarm {args:?} failed: {}",
-        text(&out.stderr)
-    );
+    assert!(out.status.success(), "gridswarm {args:?} failed: {}", text(&out.stderr));
     out
 }
 
@@ -131,9 +118,9 @@ pub fn stalled_run() -> (std::process::Child, u32, Vec<u32>, String) {
             world = w[0];
             agents = a;
             prefix = arg_of(&cmdline(world), "--prefix").unwrap_or_default();
-            agents.iter().any(|&p| {
-                arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with("robot-2.json")) && stopped(p)
-            })
+            agents
+                .iter()
+                .any(|&p| arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with("robot-2.json")) && stopped(p))
         } else {
             false
         }
@@ -164,20 +151,13 @@ pub fn children(pid: u32) -> Vec<u32> {
 
 pub fn cmdline(pid: u32) -> Vec<String> {
     std::fs::read(format!("/proc/{pid}/cmdline"))
-        .map(|b| {
-            b.split(|&c| c == 0)
-                .filter(|a| !a.is_empty())
-                .map(text)
-                .collect()
-        })
+        .map(|b| b.split(|&c| c == 0).filter(|a| !a.is_empty()).map(text).collect())
         .unwrap_or_default()
 }
 
 /// The value following `flag` in a command line.
 pub fn arg_of(cmd: &[String], flag: &str) -> Option<String> {
-    cmd.iter()
-        .position(|a| a == flag)
-        .and_then(|k| cmd.get(k + 1).cloned())
+    cmd.iter().position(|a| a == flag).and_then(|k| cmd.get(k + 1).cloned())
 }
 
 /// Whether this test process is root. A test that needs root and lacks it

@@ -27,14 +27,19 @@ fn a_rule_of_ones_own_runs_in_both_engines_alike() {
     assert_eq!(sim["algorithm"], "sweep");
 
     let ex = example.to_str().unwrap();
-    let run = run_json(&[&["--agent-bin", ex, "--algorithm", "sweep", "--out", run_dir.to_str().unwrap()][..], &args[..]].concat());
+    let run = run_json(
+        &[&["--agent-bin", ex, "--algorithm", "sweep", "--out", run_dir.to_str().unwrap()][..], &args[..]].concat(),
+    );
     assert_eq!(run["algorithm"], "sweep");
     assert_eq!(run["complete"], true);
     for key in ["rounds", "search_time_s", "collisions", "targets_found"] {
         assert_eq!(run[key], sim[key], "{key}");
     }
     for file in ["trajectories.jsonl", "rounds.csv"] {
-        assert!(fs::read(run_dir.join(file)).unwrap() == fs::read(sim_dir.join(file)).unwrap(), "{file} differs between the engines");
+        assert!(
+            fs::read(run_dir.join(file)).unwrap() == fs::read(sim_dir.join(file)).unwrap(),
+            "{file} differs between the engines"
+        );
     }
 
     // Without the agent program, gridswarm does not know the name.

@@ -84,8 +84,18 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
     for &(scenario, robots, seed, situations) in cases {
         for policy in ["repulsive", "sequential", "ru", "escape", "frontier"] {
             for sit in situations.chars().map(|c| c.to_string()) {
-                let args =
-                    ["--scenario", scenario, "--algorithm", policy, "--robots", robots, "--seed", seed, "--situation", &sit];
+                let args = [
+                    "--scenario",
+                    scenario,
+                    "--algorithm",
+                    policy,
+                    "--robots",
+                    robots,
+                    "--seed",
+                    seed,
+                    "--situation",
+                    &sit,
+                ];
                 let tag = format!("{scenario}-{policy}-{robots}-{seed}-{sit}");
                 let (d, s) = (dir.join(format!("run-{tag}")), dir.join(format!("sim-{tag}")));
                 let summary = run_into(&d, &args);
@@ -170,8 +180,23 @@ fn wake_ups_bigger_than_a_sample_cross_in_chunks_unchanged() {
     let mut opts = RunOptions::for_experiment("large".into(), Policy::Repulsive, 30, 4, Situation::Two, 0, 25);
     opts.radio = Radio { loss: 0.05, ..Radio::default() };
     let (d, s) = (dir.join("run"), dir.join("sim"));
-    let summary =
-        run_into(&d, &["--scenario", "large", "--robots", "30", "--seed", "4", "--situation", "2", "--max-rounds", "25", "--loss", "0.05"]);
+    let summary = run_into(
+        &d,
+        &[
+            "--scenario",
+            "large",
+            "--robots",
+            "30",
+            "--seed",
+            "4",
+            "--situation",
+            "2",
+            "--max-rounds",
+            "25",
+            "--loss",
+            "0.05",
+        ],
+    );
     in_process(&opts, &s);
     assert_same_run("large, 30 robots", &d, &s, &summary);
     let largest = num(&summary["largest_wake_bytes"]);
@@ -185,7 +210,10 @@ fn killed_robots_are_declared_by_the_robots_and_the_search_completes() {
     let dir = scratch("kill");
     for sit in ["1", "2"] {
         let out = dir.join(format!("sit{sit}"));
-        let v = run_into(&out, &["--robots", "13", "--seed", "7", "--situation", sit, "--kill", "3@5", "--kill", "6@8+0.02"]);
+        let v = run_into(
+            &out,
+            &["--robots", "13", "--seed", "7", "--situation", sit, "--kill", "3@5", "--kill", "6@8+0.02"],
+        );
         assert_eq!(v["complete"], true, "situation {sit}: {v}");
         assert_eq!(num(&v["collisions"]), 0);
         assert_eq!(num(&v["refused_moves"]), 0);

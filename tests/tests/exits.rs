@@ -22,7 +22,9 @@ fn a_search_exits_0_complete_and_3_incomplete_in_both_engines() {
     let cut_off = ["--robots", "3", "--seed", "2", "--max-rounds", "2"];
     let complete = ["--robots", "3", "--seed", "2"];
     for cmd in ["simulate", "run"] {
-        for (args, want, ended_by) in [(&complete[..], 0, "stop"), (&all_killed[..], 3, "no_robots"), (&cut_off[..], 3, "max_rounds")] {
+        for (args, want, ended_by) in
+            [(&complete[..], 0, "stop"), (&all_killed[..], 3, "no_robots"), (&cut_off[..], 3, "max_rounds")]
+        {
             let all = [&[cmd, "--json"][..], args].concat();
             let (code, out) = status(&all);
             assert_eq!(code, Some(want), "{all:?}: {}", text(&out.stderr));
@@ -89,7 +91,8 @@ fn an_agent_that_fails_at_start_ends_the_run_at_once_with_its_error() {
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
     assert_eq!(err.lines().count(), 1, "one line: {err}");
-    let (head, tail) = err.trim_end().split_once(" failed at start (exit status 1): ").unwrap_or_else(|| panic!("{err}"));
+    let (head, tail) =
+        err.trim_end().split_once(" failed at start (exit status 1): ").unwrap_or_else(|| panic!("{err}"));
     assert!(head.starts_with("error: robot-agent "), "{err}");
     assert_eq!(tail, "my-agent: cannot start: no licence");
     // Not the world's hello time-out (30 s).

@@ -75,7 +75,20 @@ fn a_small_failures_experiment() {
     let _s = serial();
     let dir = scratch("failures");
     let out = dir.join("a");
-    let args = ["experiment", "failures", "--robots", "5", "--killed", "0-1", "--runs", "2", "--seed", "3", "--engine", "distributed"];
+    let args = [
+        "experiment",
+        "failures",
+        "--robots",
+        "5",
+        "--killed",
+        "0-1",
+        "--runs",
+        "2",
+        "--seed",
+        "3",
+        "--engine",
+        "distributed",
+    ];
     let o = run(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert_eq!(text(&o.stderr), "", "quiet in a pipe: no progress, no run output");

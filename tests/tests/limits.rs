@@ -134,7 +134,25 @@ fn experiments_are_refused_before_their_first_run() {
     let o = out_dir.to_str().unwrap();
     let cases: [(&[&str], usize); 2] = [
         (&["experiment", "scale", "--robots", "5,100", "--runs", "1", "--out", o], 100),
-        (&["experiment", "failures", "--engine", "distributed", "--scenario", "large", "--robots", "30", "--killed", "0", "--runs", "1", "--out", o], 30),
+        (
+            &[
+                "experiment",
+                "failures",
+                "--engine",
+                "distributed",
+                "--scenario",
+                "large",
+                "--robots",
+                "30",
+                "--killed",
+                "0",
+                "--runs",
+                "1",
+                "--out",
+                o,
+            ],
+            30,
+        ),
     ];
     for (args, n) in cases {
         let (out, took, prefixes) = timed(limited(256, 256, args));
@@ -172,7 +190,11 @@ fn a_wake_up_that_cannot_be_delivered_ends_the_run_with_a_message() {
         let mut world = 0;
         let started = wait_until(Duration::from_secs(60), || {
             let kids = children(child.id());
-            world = kids.iter().copied().find(|&k| cmdline(k).first().is_some_and(|c| c.ends_with("world-server"))).unwrap_or(0);
+            world = kids
+                .iter()
+                .copied()
+                .find(|&k| cmdline(k).first().is_some_and(|c| c.ends_with("world-server")))
+                .unwrap_or(0);
             world != 0 && kids.len() > 1
         });
         assert!(started, "no agent started");
@@ -190,7 +212,10 @@ fn a_wake_up_that_cannot_be_delivered_ends_the_run_with_a_message() {
         let err = text(&out.stderr);
         if out.status.code() == Some(1) {
             assert_eq!(err.lines().count(), 1, "one line: {err}");
-            assert!(err.starts_with("error: world-server failed (exit status 1) in round 0: cannot wake robot "), "{err}");
+            assert!(
+                err.starts_with("error: world-server failed (exit status 1) in round 0: cannot wake robot "),
+                "{err}"
+            );
             assert!(err.contains("its listener cannot be reached (out of open files? the limit is"), "{err}");
             assert!(took < Duration::from_secs(60), "took {took:?}");
             return;

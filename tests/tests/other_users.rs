@@ -153,7 +153,12 @@ fn hostile_writer(pid: &str) {
 fn parse_attack(out: &str) -> Attack {
     let w: Vec<&str> = out.split_whitespace().collect();
     assert!(w.len() == 8 && w[0] == "seen", "the hostile writer's report: {out:?}");
-    Attack { seen: w[1].parse().unwrap(), read: w[3].parse().unwrap(), succeeded: w[5].parse().unwrap(), saw_counter: w[7] == "true" }
+    Attack {
+        seen: w[1].parse().unwrap(),
+        read: w[3].parse().unwrap(),
+        succeeded: w[5].parse().unwrap(),
+        saw_counter: w[7] == "true",
+    }
 }
 
 #[test]

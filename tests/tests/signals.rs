@@ -11,7 +11,8 @@ use gridswarm_e2e::*;
 #[test]
 fn every_terminal_signal_ends_every_child_and_removes_the_runs_files() {
     let _s = serial();
-    let cases = [(libc::SIGINT, "SIGINT"), (libc::SIGTERM, "SIGTERM"), (libc::SIGHUP, "SIGHUP"), (libc::SIGQUIT, "SIGQUIT")];
+    let cases =
+        [(libc::SIGINT, "SIGINT"), (libc::SIGTERM, "SIGTERM"), (libc::SIGHUP, "SIGHUP"), (libc::SIGQUIT, "SIGQUIT")];
     for (sig, name) in cases {
         let (child, world, agents, prefix) = stalled_run();
         assert!(!leftover_files(&prefix).is_empty(), "a live run has files");
@@ -39,7 +40,10 @@ fn a_killed_orchestrator_leaves_no_process_and_no_file() {
     // PR_SET_PDEATHSIG: the agents die with it; the world gets SIGTERM and
     // removes the run's files, the agents' included, and the
     // orchestrator's temporary directory: no later run is needed.
-    assert!(wait_until(Duration::from_secs(5), || pids.iter().all(|&p| !alive(p))), "children outlived the orchestrator");
+    assert!(
+        wait_until(Duration::from_secs(5), || pids.iter().all(|&p| !alive(p))),
+        "children outlived the orchestrator"
+    );
     assert!(
         wait_until(Duration::from_secs(5), || leftover_files(&prefix).is_empty() && temp_files(&prefix).is_empty()),
         "left: {:?} {:?}",

@@ -67,7 +67,8 @@ fn zenoh_only_flags_are_refused_on_iceoryx2_and_keys_are_checked() {
     let out = gridswarm().args(["run", "--transport", "zenoh", "--remote-agents", "a/*"]).output().unwrap();
     assert!(!out.status.success());
     assert!(text(&out.stderr).contains("not a run key"), "{}", text(&out.stderr));
-    let out = gridswarm().args(["run", "--transport", "zenoh", "--remote-agents", "k", "--kill", "1@2"]).output().unwrap();
+    let out =
+        gridswarm().args(["run", "--transport", "zenoh", "--remote-agents", "k", "--kill", "1@2"]).output().unwrap();
     assert!(text(&out.stderr).contains("--remote-agents the orchestrator has none"), "{}", text(&out.stderr));
     let out = gridswarm().args(["run", "--transport", "carrier-pigeon"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));

@@ -16,7 +16,9 @@ use std::rc::Rc;
 use std::time::Instant;
 
 use gridswarm::ipc;
-use gridswarm::wire::{self, AgentOutput, Assembler, ByteSlice, Bytes, ToWorld, WakeRef, WireFrameRef, WireLimits, WireSend};
+use gridswarm::wire::{
+    self, AgentOutput, Assembler, ByteSlice, Bytes, ToWorld, WakeRef, WireFrameRef, WireLimits, WireSend,
+};
 
 const ITERS: usize = 5000;
 
@@ -76,8 +78,10 @@ fn relay(node: &iceoryx2::prelude::Node<ipc::Svc>, size: usize, k: usize) -> Res
     let up_pub = ipc::bytes_publisher(&up, ipc::CHUNK_BYTES)?;
     let up_sub = ipc::bytes_subscriber(&up, ipc::INBOX_CHUNKS)?;
     let downs: Vec<_> = (0..k).map(|_| service(node, 1)).collect::<Result<_, _>>()?;
-    let down_pubs: Vec<_> = downs.iter().map(|s| ipc::bytes_publisher(s, ipc::CHUNK_BYTES)).collect::<Result<_, _>>()?;
-    let down_subs: Vec<_> = downs.iter().map(|s| ipc::bytes_subscriber(s, ipc::INBOX_CHUNKS)).collect::<Result<_, _>>()?;
+    let down_pubs: Vec<_> =
+        downs.iter().map(|s| ipc::bytes_publisher(s, ipc::CHUNK_BYTES)).collect::<Result<_, _>>()?;
+    let down_subs: Vec<_> =
+        downs.iter().map(|s| ipc::bytes_subscriber(s, ipc::INBOX_CHUNKS)).collect::<Result<_, _>>()?;
     let limits = WireLimits::for_world(16, 100_000, 100);
     let agent_limits = WireLimits::for_robot(100_000, 100);
     let frame = vec![7u8; size];
@@ -109,7 +113,12 @@ fn relay(node: &iceoryx2::prelude::Node<ipc::Svc>, size: usize, k: usize) -> Res
         let payload = payload.ok_or("lost")?;
         // ... and delivers it to every receiver in a wake-up.
         for (r, p) in down_pubs.iter().enumerate() {
-            let wake = WakeRef { seq, now: 2, tick: None, frames: vec![WireFrameRef { from: 1, at: 2, bytes: ByteSlice(&payload) }] };
+            let wake = WakeRef {
+                seq,
+                now: 2,
+                tick: None,
+                frames: vec![WireFrameRef { from: 1, at: 2, bytes: ByteSlice(&payload) }],
+            };
             wire::encode_wake_into(&wake, &mut encoded);
             let bytes = &encoded;
             let mut res = Ok(());

@@ -68,8 +68,11 @@ pub struct Ports {
 
 impl Ports {
     pub fn new(s: &Services) -> Result<Self, String> {
-        let listener =
-            s.world_wake.listener_builder().create().map_err(|e| format!("cannot create the world's listener: {e:?}"))?;
+        let listener = s
+            .world_wake
+            .listener_builder()
+            .create()
+            .map_err(|e| format!("cannot create the world's listener: {e:?}"))?;
         let mut p = Ports {
             outs: Vec::with_capacity(s.outs.len()),
             pending: RefCell::new(vec![VecDeque::new(); s.robots]),

@@ -29,9 +29,9 @@ use std::time::{Duration, Instant};
 
 use clap::Parser;
 use gridswarm::ipc::{self, RunFile, RunReport};
+use gridswarm::net::{NetConfig, ZenohWorld};
 use gridswarm::outcome::RunResult;
 use gridswarm::scenario::Scenario;
-use gridswarm::net::{NetConfig, ZenohWorld};
 use gridswarm::sim::Kernel;
 use gridswarm::transport::{Transport, WorldTransport};
 use gridswarm::wire::WireLimits;
@@ -95,7 +95,10 @@ fn load(path: &PathBuf) -> Result<(RunFile, World, Vec<u32>), String> {
     }
     scenario.situation = run.config.situation;
     if !run.config.policy.on_grid() {
-        return Err(format!("algorithm `{}` does not move on the grid; the distributed engine runs grid policies only", run.config.policy));
+        return Err(format!(
+            "algorithm `{}` does not move on the grid; the distributed engine runs grid policies only",
+            run.config.policy
+        ));
     }
     if run.robots == 0 || run.robots > ipc::MAX_ROBOTS {
         return Err(format!("robots must be in 1..={}, got {}", ipc::MAX_ROBOTS, run.robots));
@@ -140,7 +143,12 @@ fn run(args: Args) -> Result<(), String> {
 }
 
 /// Runs the world over `link` once it is up, and writes the report.
-fn serve(args: &Args, link: &dyn WorldTransport, (run, world, starts): (RunFile, World, Vec<u32>), t0: Instant) -> Result<(), String> {
+fn serve(
+    args: &Args,
+    link: &dyn WorldTransport,
+    (run, world, starts): (RunFile, World, Vec<u32>),
+    t0: Instant,
+) -> Result<(), String> {
     let robots = run.robots;
     say("ready")?;
     let limits = WireLimits::for_world(robots, world.grid.len(), world.targets.len());

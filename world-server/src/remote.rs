@@ -21,8 +21,8 @@ use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 use gridswarm::ipc;
-use gridswarm::transport::WorldTransport;
 use gridswarm::sim::{Delivery, Fault, Output, Robots, Time, Transmit, WakeCall};
+use gridswarm::transport::WorldTransport;
 use gridswarm::wire::{self, AgentOutput, Assembler, ByteSlice, ToAgent, ToWorld, WakeRef, WireFrameRef, WireLimits};
 
 /// A robot's answer to a wake-up, once collected: `Some(None)` when it
@@ -183,7 +183,12 @@ impl<'a> Remote<'a> {
     fn publish(&mut self, calls: &[WakeCall<Rc<[u8]>>]) -> Result<(), String> {
         let mut bytes = std::mem::take(&mut self.encoded);
         for c in calls {
-            let wake = WakeRef { seq: self.seq, now: c.now, tick: c.tick.as_ref(), frames: c.frames.iter().map(frame).collect() };
+            let wake = WakeRef {
+                seq: self.seq,
+                now: c.now,
+                tick: c.tick.as_ref(),
+                frames: c.frames.iter().map(frame).collect(),
+            };
             wire::encode_wake_into(&wake, &mut bytes);
             self.ports.post(c.robot, self.seq, &bytes)?;
             self.largest_wake = self.largest_wake.max(bytes.len());
@@ -305,7 +310,11 @@ fn frame(d: &Delivery<Rc<[u8]>>) -> WireFrameRef<'_> {
 
 fn output(o: AgentOutput) -> Output<Rc<[u8]>> {
     Output {
-        send: o.send.into_iter().map(|s| Transmit { payload: Rc::from(s.bytes.0), ready: s.ready, copies: s.copies }).collect(),
+        send: o
+            .send
+            .into_iter()
+            .map(|s| Transmit { payload: Rc::from(s.bytes.0), ready: s.ready, copies: s.copies })
+            .collect(),
         motor: o.motor,
         alarm: o.alarm,
         listen: o.listen,

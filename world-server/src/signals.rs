@@ -124,7 +124,10 @@ mod tests {
     #[test]
     fn only_the_orchestrators_directory_of_the_run_is_removed() {
         let p = "gs12x0a_";
-        assert_eq!(run_dir_of(Path::new("/tmp/gridswarm-gs12x0a_/run.json"), p), Some(PathBuf::from("/tmp/gridswarm-gs12x0a_")));
+        assert_eq!(
+            run_dir_of(Path::new("/tmp/gridswarm-gs12x0a_/run.json"), p),
+            Some(PathBuf::from("/tmp/gridswarm-gs12x0a_"))
+        );
         assert_eq!(run_dir_of(Path::new("/tmp/gridswarm-gs12x0b_/run.json"), p), None);
         assert_eq!(run_dir_of(Path::new("/home/me/run.json"), p), None);
         assert_eq!(run_dir_of(Path::new("run.json"), p), None);

@@ -41,7 +41,8 @@ fn bad_arguments_are_a_usage_error() {
 fn a_prefix_that_is_not_a_run_prefix_is_refused() {
     // A typo must never reach iceoryx2 (or the cleanup, which removes by prefix).
     let run = run_file("prefix", "repulsive");
-    let out = world_server().args(["--prefix", "iox2_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
+    let out =
+        world_server().args(["--prefix", "iox2_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.starts_with("error: `iox2_` is not a run prefix"), "{err}");
@@ -50,7 +51,8 @@ fn a_prefix_that_is_not_a_run_prefix_is_refused() {
 #[test]
 fn lfp_is_not_a_grid_policy() {
     let run = run_file("lfp", "lfp");
-    let out = world_server().args(["--prefix", "gs1x1_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
+    let out =
+        world_server().args(["--prefix", "gs1x1_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("grid policies only"), "{err}");
@@ -63,7 +65,8 @@ fn a_bad_run_file_is_one_error_line() {
     // agent program runs, which the world cannot tell (it would start and
     // wait for hellos).
     let run = run_file("bad", "No Such Policy");
-    let out = world_server().args(["--prefix", "gs1x1_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
+    let out =
+        world_server().args(["--prefix", "gs1x1_", "--report", "/dev/null", "--run"]).arg(&run.0).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.starts_with("error: ") && err.contains("bad algorithm name"), "{err}");

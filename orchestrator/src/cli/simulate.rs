@@ -91,7 +91,10 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
         if let Some(n) = &note {
             eprint!("{n}");
         }
-        return Ok((format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")), result.complete));
+        return Ok((
+            format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")),
+            result.complete,
+        ));
     }
     let mut text = output::headline(&scenario, &result, "", "");
     text += note.as_deref().unwrap_or("");

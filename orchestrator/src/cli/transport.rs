@@ -27,4 +27,3 @@ impl TransportFlags {
         NetOptions { transport: self.transport, listen: self.listen.clone(), remote_agents: self.remote_agents.clone() }
     }
 }
-

@@ -259,7 +259,11 @@ fn ordering(t: &Table, present: &[Policy]) -> ClaimResult {
         full_holds.len(),
         decided,
         if full_holds.is_empty() { "none".to_string() } else { compress(&full_holds) },
-        if all_tied.is_empty() { String::new() } else { format!("; every pair tied at {}, not counted", compress(&all_tied)) }
+        if all_tied.is_empty() {
+            String::new()
+        } else {
+            format!("; every pair tied at {}, not counted", compress(&all_tied))
+        }
     ));
     let mut pairs = Vec::new();
     for w in ORDER.windows(2) {
@@ -395,8 +399,7 @@ fn sharp_then_slow(t: &Table, present: &[Policy]) -> ClaimResult {
         let holds = first > 0.0 && last >= 0.0 && first >= SHARP_FACTOR * last;
         evaluated += 1;
         passed += usize::from(holds);
-        let ratio =
-            if last > 0.0 { format!("ratio {:.1}", first / last) } else { "the last third rises".to_string() };
+        let ratio = if last > 0.0 { format!("ratio {:.1}", first / last) } else { "the last third rises".to_string() };
         lines.push(format!(
             "  {}: {lo}->{first_end} robots {}; {last_start}->{hi} robots {} ({ratio}): {}",
             p.paper_label(),
@@ -531,7 +534,11 @@ mod tests {
         let c = evaluate(&v, &[]);
         let a = by_id(&c, "a");
         assert_eq!(a.verdict, Verdict::Fails);
-        assert!(render(&c).contains("(1)&(3) > (1),(2)&(3): at 0/13 robot counts, tied at 0, reversed at 13"), "{}", render(&c));
+        assert!(
+            render(&c).contains("(1)&(3) > (1),(2)&(3): at 0/13 robot counts, tied at 0, reversed at 13"),
+            "{}",
+            render(&c)
+        );
     }
 
     #[test]
@@ -548,7 +555,14 @@ mod tests {
     }
 
     fn runs(times: &[f64]) -> Vec<RunRecord> {
-        let run = |&t: &f64| RunRecord { seed: 0, search_time_s: t, rounds: 1, collisions: 0, targets_found: 1, complete: true };
+        let run = |&t: &f64| RunRecord {
+            seed: 0,
+            search_time_s: t,
+            rounds: 1,
+            collisions: 0,
+            targets_found: 1,
+            complete: true,
+        };
         times.iter().map(run).collect()
     }
 

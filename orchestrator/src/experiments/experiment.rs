@@ -213,74 +213,74 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     // if a write fails the table is still shown, then the error.
     let out = &stage.path().to_path_buf();
     let write = || -> Result<()> {
-    let map_cells: &[Vec<CellStats>] = if several { &per_map } else { &[] };
-    output::write_text(&out.join("results.csv"), &results_csv(&cells, map_cells))?;
-    output::write_file(&out.join("runs.csv"), |w| plan.write_runs_csv(w, &records))?;
-    if several {
-        output::write_text(&out.join("maps.csv"), &maps::csv(&map_rows))?;
-    }
-    let fig_path = out.join("fig7.svg");
-    let title = if several {
-        format!(
-            "{} random maps from {}: mean search time of {} runs",
-            maps.len(),
-            scenario.name,
-            opts.runs * maps.len() as u32
-        )
-    } else {
-        format!("{}: mean search time of {} runs", scenario.name, opts.runs)
-    };
-    let svg = plot::fig7_svg(&cells, &algorithms, &title)
-        .map_err(|message| Error::Plot { path: fig_path.clone(), message })?;
-    output::write_text(&fig_path, &svg)?;
-    output::write_text(&out.join("claims.txt"), &format!("{setup}\n{claims_text}"))?;
-    let mut summary = json!({
-        "scenario": scenario.name,
-        "grid": scenario.grid.name(),
-        "situation": scenario.situation.number(),
-        "algorithms": algorithms.iter().map(|p| p.name()).collect::<Vec<_>>(),
-        "robots": opts.robots,
-        "runs": opts.runs,
-        "seed": opts.seed,
-        "seed_derivation": "run k with N robots has seed derive(derive(seed, N), k) with gridswarm::rng::derive, \
-            the same for every algorithm (common random numbers: claims compare runs pairwise)",
-        "max_rounds": opts.max_rounds,
-        "params": scenario.params,
-        "lfp": lfp,
-        "statistics": "mean, std (n-1), ci95 = 1.96 std / sqrt(n), median, rounds and collisions over completed \
-            runs; mean_targets_found over all runs",
-        "cells": cells,
-        "oracle_reference_s": oracle,
-        "oracle_reference": ORACLE_NOTE,
-        "sensitivity": readings,
-        "claims": claims,
-    });
-    if several {
-        summary["maps"] = json!(map_rows);
-        summary["map_derivation"] = json!(
-            "map k is the scenario named with seed SEED + k; run k of a cell on map m \
+        let map_cells: &[Vec<CellStats>] = if several { &per_map } else { &[] };
+        output::write_text(&out.join("results.csv"), &results_csv(&cells, map_cells))?;
+        output::write_file(&out.join("runs.csv"), |w| plan.write_runs_csv(w, &records))?;
+        if several {
+            output::write_text(&out.join("maps.csv"), &maps::csv(&map_rows))?;
+        }
+        let fig_path = out.join("fig7.svg");
+        let title = if several {
+            format!(
+                "{} random maps from {}: mean search time of {} runs",
+                maps.len(),
+                scenario.name,
+                opts.runs * maps.len() as u32
+            )
+        } else {
+            format!("{}: mean search time of {} runs", scenario.name, opts.runs)
+        };
+        let svg = plot::fig7_svg(&cells, &algorithms, &title)
+            .map_err(|message| Error::Plot { path: fig_path.clone(), message })?;
+        output::write_text(&fig_path, &svg)?;
+        output::write_text(&out.join("claims.txt"), &format!("{setup}\n{claims_text}"))?;
+        let mut summary = json!({
+            "scenario": scenario.name,
+            "grid": scenario.grid.name(),
+            "situation": scenario.situation.number(),
+            "algorithms": algorithms.iter().map(|p| p.name()).collect::<Vec<_>>(),
+            "robots": opts.robots,
+            "runs": opts.runs,
+            "seed": opts.seed,
+            "seed_derivation": "run k with N robots has seed derive(derive(seed, N), k) with gridswarm::rng::derive, \
+                the same for every algorithm (common random numbers: claims compare runs pairwise)",
+            "max_rounds": opts.max_rounds,
+            "params": scenario.params,
+            "lfp": lfp,
+            "statistics": "mean, std (n-1), ci95 = 1.96 std / sqrt(n), median, rounds and collisions over completed \
+                runs; mean_targets_found over all runs",
+            "cells": cells,
+            "oracle_reference_s": oracle,
+            "oracle_reference": ORACLE_NOTE,
+            "sensitivity": readings,
+            "claims": claims,
+        });
+        if several {
+            summary["maps"] = json!(map_rows);
+            summary["map_derivation"] = json!(
+                "map k is the scenario named with seed SEED + k; run k of a cell on map m \
             has the seed of run m * runs + k"
-        );
-        summary["per_map_spread"] = json!(spreads);
-    }
-    output::write_json(&out.join("summary.json"), &summary)?;
-    let page = report::fig7(&report::Fig7Inputs {
-        summary: &summary,
-        cells: &cells,
-        claims: &claims,
-        fig7_svg: &svg,
-        incomplete_note: &incomplete_note(&cells, opts.max_rounds),
-        wall_time_s,
-        threads: rayon::current_num_threads(),
-        runs_total: records.len(),
-        oracle: &oracle,
-        extra: [report::sensitivity_section(&readings)]
-            .into_iter()
-            .flatten()
-            .chain(if several { crate::spread::sections(&map_rows, &spreads) } else { Vec::new() })
-            .collect(),
-    });
-    output::write_text(&out.join("report.html"), &report::render(&page))
+            );
+            summary["per_map_spread"] = json!(spreads);
+        }
+        output::write_json(&out.join("summary.json"), &summary)?;
+        let page = report::fig7(&report::Fig7Inputs {
+            summary: &summary,
+            cells: &cells,
+            claims: &claims,
+            fig7_svg: &svg,
+            incomplete_note: &incomplete_note(&cells, opts.max_rounds),
+            wall_time_s,
+            threads: rayon::current_num_threads(),
+            runs_total: records.len(),
+            oracle: &oracle,
+            extra: [report::sensitivity_section(&readings)]
+                .into_iter()
+                .flatten()
+                .chain(if several { crate::spread::sections(&map_rows, &spreads) } else { Vec::new() })
+                .collect(),
+        });
+        output::write_text(&out.join("report.html"), &report::render(&page))
     };
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
     Ok((Sweep { cells, claims, wall_time_s, robot_rounds }, text))
@@ -410,7 +410,10 @@ impl Plan<'_> {
         self.cells()
             .enumerate()
             .map(|(c, _)| {
-                records.chunks(self.per_map()).flat_map(|m| m[c * cell_len..(c + 1) * cell_len].iter().copied()).collect()
+                records
+                    .chunks(self.per_map())
+                    .flat_map(|m| m[c * cell_len..(c + 1) * cell_len].iter().copied())
+                    .collect()
             })
             .collect()
     }

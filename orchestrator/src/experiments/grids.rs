@@ -14,9 +14,9 @@ use gridswarm::scenario::Scenario;
 
 use crate::contract;
 use crate::error::Result;
-use crate::{output, routes};
 use crate::report::{self, Block, Report, Section, Table};
 use crate::staging::Staging;
+use crate::{output, routes};
 
 #[derive(Clone, Debug)]
 pub struct GridsOptions {
@@ -64,7 +64,8 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
         let detected: usize = va_positions.iter().map(|&c| raster.mark(&mut hit, c, scenario.params.r_st)).sum();
         let fraction = if raster.samples() == 0 { 1.0 } else { detected as f64 / raster.samples() as f64 };
         let holes: Vec<_> = raster.unmarked_samples(&hit).collect();
-        let title = format!("{}: {} lattice, {} undetected samples (red) of Ad; grey: Va", base.name, kind.name(), holes.len());
+        let title =
+            format!("{}: {} lattice, {} undetected samples (red) of Ad; grey: Va", base.name, kind.name(), holes.len());
         pictures.push((kind.name(), routes::holes_svg(&world, &va_positions, &holes, &title)));
         rows.push(GridRow {
             grid: kind.name(),

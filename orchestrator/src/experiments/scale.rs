@@ -26,8 +26,8 @@ use crate::failures::text_table;
 use crate::panels::{self, Panel, Series};
 use crate::report::{self, Block, Report, Section, Table};
 use crate::run::{self, RunOptions};
-use crate::stats::median;
 use crate::staging::Staging;
+use crate::stats::median;
 use crate::{check, output};
 
 pub const DEFAULT_ROBOTS: &str = "13,50,100,200";
@@ -53,7 +53,6 @@ pub struct ScaleOptions {
     /// What carries the runs' messages (the bench compares both).
     pub transport: gridswarm::transport::Transport,
 }
-
 
 /// The scenario of a robot count.
 pub fn scenario_for(opts: &ScaleOptions, robots: usize) -> String {

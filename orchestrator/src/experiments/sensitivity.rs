@@ -50,7 +50,11 @@ const ALTERNATIVES: [Alternative; 3] = [
         apply: |s| s.params.ru_collisions = RuCollisions::PerPair,
     },
     Alternative { algorithm: Policy::Lfp, reading: "turn = 0.5", apply: |s| s.lfp.turn = Turn::Sigma(0.5) },
-    Alternative { algorithm: Policy::Lfp, reading: "repel_range = \"radio\"", apply: |s| s.lfp.repel_range = RepelRange::Radio },
+    Alternative {
+        algorithm: Policy::Lfp,
+        reading: "repel_range = \"radio\"",
+        apply: |s| s.lfp.repel_range = RepelRange::Radio,
+    },
 ];
 
 /// The sweep whose readings are varied: its first map's scenario and
@@ -90,7 +94,8 @@ pub fn run(
             let times: Vec<f64> = (0..runs)
                 .into_par_iter()
                 .filter_map(|k| {
-                    let cfg = config(alt.algorithm, run_seed(sweep.seed, n, k as u64), scenario.situation, sweep.max_rounds);
+                    let cfg =
+                        config(alt.algorithm, run_seed(sweep.seed, n, k as u64), scenario.situation, sweep.max_rounds);
                     let res = changed.run(&sweep.starts[r], &cfg);
                     res.complete.then_some(res.search_time_s)
                 })

@@ -123,7 +123,8 @@ impl ProtoStats {
     pub fn of(runs: &[ProtoRun]) -> Self {
         let done: Vec<&ProtoRun> = runs.iter().filter(|r| r.complete).collect();
         let times: Vec<f64> = done.iter().map(|r| r.search_time_s).collect();
-        let per_run = |f: &dyn Fn(&ProtoRun) -> u64| mean(&runs.iter().map(|r| f(r) as f64).collect::<Vec<_>>()).unwrap_or(0.0);
+        let per_run =
+            |f: &dyn Fn(&ProtoRun) -> u64| mean(&runs.iter().map(|r| f(r) as f64).collect::<Vec<_>>()).unwrap_or(0.0);
         let std = sample_std(&times);
         let (collisions, moves) = runs.iter().fold((0, 0), |a, r| (a.0 + r.collisions, a.1 + r.moves));
         let mut ended_by = [0; 4];

@@ -35,11 +35,8 @@ pub fn binary(name: &str) -> Result<PathBuf, String> {
     let dir = match std::env::var_os("GRIDSWARM_BIN_DIR") {
         Some(d) => PathBuf::from(d),
         None => {
-            let exe = std::env::current_exe()
-                .map_err(|e| format!("cannot locate the gridswarm binary: {e}"))?;
-            exe.parent()
-                .map(PathBuf::from)
-                .ok_or("the gridswarm binary has no directory")?
+            let exe = std::env::current_exe().map_err(|e| format!("cannot locate the gridswarm binary: {e}"))?;
+            exe.parent().map(PathBuf::from).ok_or("the gridswarm binary has no directory")?
         }
     };
     let path = dir.join(name);
@@ -75,14 +72,7 @@ pub fn guard(cmd: &mut Command, death_signal: i32) -> &mut Command {
     // SAFETY: only async-signal-safe calls between fork and exec.
     unsafe {
         cmd.pre_exec(move || {
-            if libc::prctl(
-                libc::PR_SET_PDEATHSIG,
-                death_signal as libc::c_ulong,
-                0,
-                0,
-                0,
-            ) != 0
-            {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, death_signal as libc::c_ulong, 0, 0, 0) != 0 {
                 return Err(std::io::Error::last_os_error());
             }
             // The parent may have died before the prctl took effect.
@@ -142,10 +132,7 @@ pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
         let mut fds = [0i32; 2];
         // SAFETY: pipe2 with a valid array; close-on-exec so children never hold it.
         if unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC | libc::O_NONBLOCK) } != 0 {
-            return Err(format!(
-                "cannot create a pipe: {}",
-                std::io::Error::last_os_error()
-            ));
+            return Err(format!("cannot create a pipe: {}", std::io::Error::last_os_error()));
         }
         let (read_fd, write_fd) = (fds[0], fds[1]);
         // The reading end blocks; only the handler's end must not.
@@ -171,9 +158,7 @@ pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
                     if let Some(tx) = SIGNAL_TX.lock().unwrap_or_else(|e| e.into_inner()).as_ref() {
                         let _ = tx.send(Event::Signal(b as i32));
                     }
-                } else if n < 0
-                    && std::io::Error::last_os_error().kind() == std::io::ErrorKind::Interrupted
-                {
+                } else if n < 0 && std::io::Error::last_os_error().kind() == std::io::ErrorKind::Interrupted {
                     continue;
                 } else {
                     return;
@@ -189,10 +174,7 @@ pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
             sa.sa_flags = libc::SA_RESTART;
             libc::sigemptyset(&mut sa.sa_mask);
             if libc::sigaction(sig, &sa, std::ptr::null_mut()) != 0 {
-                return Err(format!(
-                    "cannot handle signal {sig}: {}",
-                    std::io::Error::last_os_error()
-                ));
+                return Err(format!("cannot handle signal {sig}: {}", std::io::Error::last_os_error()));
             }
         }
     }
@@ -230,11 +212,7 @@ pub fn kill_and_reap(children: &mut [Child]) -> usize {
 pub fn reap_within(children: &mut [Child], timeout: Duration) -> usize {
     let deadline = Instant::now() + timeout;
     loop {
-        let running = children
-            .iter_mut()
-            .map(|c| c.try_wait())
-            .filter(|s| matches!(s, Ok(None)))
-            .count();
+        let running = children.iter_mut().map(|c| c.try_wait()).filter(|s| matches!(s, Ok(None))).count();
         if running == 0 {
             return 0;
         }

@@ -188,7 +188,11 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
             if !panel.series.is_empty() {
                 // A fixed range (a rate) has no headroom: its legend goes
                 // low, where rates near 1 leave space.
-                let pos = if panel.y_range.is_some() { SeriesLabelPosition::LowerRight } else { SeriesLabelPosition::UpperLeft };
+                let pos = if panel.y_range.is_some() {
+                    SeriesLabelPosition::LowerRight
+                } else {
+                    SeriesLabelPosition::UpperLeft
+                };
                 crate::plot::legend(&mut chart, pos, 13)?;
             }
         }

@@ -337,9 +337,17 @@ pub fn sensitivity_section(rows: &[crate::sensitivity::Row]) -> Option<Section> 
     }
     let f = |x: Option<f64>| x.map(|v| format!("{v:.1}")).unwrap_or_else(|| "-".into());
     let table = Table {
-        header: ["algorithm", "alternative reading", "robots", "runs", "scenario's reading (s)", "alternative (s)", "ratio"]
-            .map(String::from)
-            .to_vec(),
+        header: [
+            "algorithm",
+            "alternative reading",
+            "robots",
+            "runs",
+            "scenario's reading (s)",
+            "alternative (s)",
+            "ratio",
+        ]
+        .map(String::from)
+        .to_vec(),
         rows: rows
             .iter()
             .map(|r| {
@@ -522,7 +530,11 @@ pub fn text_table(t: &Table) -> String {
                 .map(|c| {
                     let x = &row[c];
                     let pad = " ".repeat(width[c].saturating_sub(x.chars().count()));
-                    if c == 0 { format!("{x}{pad}") } else { format!("{pad}{x}") }
+                    if c == 0 {
+                        format!("{x}{pad}")
+                    } else {
+                        format!("{pad}{x}")
+                    }
                 })
                 .collect();
             let _ = writeln!(s, "{}", cells.join("  ").trim_end());

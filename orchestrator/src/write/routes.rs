@@ -124,7 +124,8 @@ impl Legend {
     fn write(&self, s: &mut String, x0: f64, y0: f64) {
         let _ = writeln!(s, r#"<g id="legend" font-size="12">"#);
         for r in 0..self.robots {
-            let (lx, ly) = (x0 + (r / self.rows) as f64 * LEGEND_COLUMN, y0 + 10.0 + (r % self.rows) as f64 * LEGEND_ROW);
+            let (lx, ly) =
+                (x0 + (r / self.rows) as f64 * LEGEND_COLUMN, y0 + 10.0 + (r % self.rows) as f64 * LEGEND_ROW);
             let _ = writeln!(
                 s,
                 r#"<line x1="{lx:.1}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="{}" stroke-width="3"/><text x="{:.1}" y="{:.1}">robot {r}</text>"#,
@@ -196,7 +197,11 @@ fn axes(s: &mut String, f: &Frame, lo: Point, hi: Point) {
 fn tick(v: f64) -> String {
     let t = format!("{v:.2}");
     let t = t.trim_end_matches('0').trim_end_matches('.');
-    if t == "-0" { "0".into() } else { t.into() }
+    if t == "-0" {
+        "0".into()
+    } else {
+        t.into()
+    }
 }
 
 /// Where a map of `world` goes: about 900 px on the long side, but never
@@ -465,10 +470,14 @@ mod tests {
         let (width, height): (f64, f64) =
             (root.attribute("width").unwrap().parse().unwrap(), root.attribute("height").unwrap().parse().unwrap());
         let legend = doc.descendants().find(|n| n.attribute("id") == Some("legend")).unwrap();
-        let labels: Vec<_> = legend.descendants().filter(|n| n.has_tag_name("text") && n.text().is_some_and(|t| t.starts_with("robot "))).collect();
+        let labels: Vec<_> = legend
+            .descendants()
+            .filter(|n| n.has_tag_name("text") && n.text().is_some_and(|t| t.starts_with("robot ")))
+            .collect();
         assert_eq!(labels.len(), 200);
         for t in labels {
-            let (x, y): (f64, f64) = (t.attribute("x").unwrap().parse().unwrap(), t.attribute("y").unwrap().parse().unwrap());
+            let (x, y): (f64, f64) =
+                (t.attribute("x").unwrap().parse().unwrap(), t.attribute("y").unwrap().parse().unwrap());
             // "robot 199" is about 55 px wide at 12 px.
             assert!(x + 55.0 <= width && y <= height, "{} at ({x}, {y}) outside {width} x {height}", t.text().unwrap());
         }

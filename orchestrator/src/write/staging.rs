@@ -21,10 +21,30 @@ pub const MARKER: &str = ".gridswarm-output";
 /// Files gridswarm writes: a folder holding nothing else (written before
 /// [`MARKER`] existed) is gridswarm's output too.
 const OUR_FILES: [&str; 24] = [
-    "claims.txt", "failures-runs.csv", "failures.csv", "failures.svg", "fig7.svg", "grids.csv", "grids.html",
-    "maps.csv", "radio-runs.csv", "radio.csv", "radio.svg", "replay.html", "report.html", "results.csv",
-    "rounds.csv", "routes.svg", "runs.csv", "scale-runs.csv", "scale.csv", "scale.svg", "summary.json",
-    "trajectories.jsonl", "world.json", MARKER,
+    "claims.txt",
+    "failures-runs.csv",
+    "failures.csv",
+    "failures.svg",
+    "fig7.svg",
+    "grids.csv",
+    "grids.html",
+    "maps.csv",
+    "radio-runs.csv",
+    "radio.csv",
+    "radio.svg",
+    "replay.html",
+    "report.html",
+    "results.csv",
+    "rounds.csv",
+    "routes.svg",
+    "runs.csv",
+    "scale-runs.csv",
+    "scale.csv",
+    "scale.svg",
+    "summary.json",
+    "trajectories.jsonl",
+    "world.json",
+    MARKER,
 ];
 
 /// A staging folder for `target`, removed on drop unless committed.
@@ -54,7 +74,9 @@ impl Staging {
             .find(|d| fs::create_dir(d).is_ok())
             .ok_or_else(|| Error::OutDir {
                 path: parent.clone(),
-                source: fs::create_dir(parent.join(&stem)).err().unwrap_or_else(|| std::io::Error::other("no free name")),
+                source: fs::create_dir(parent.join(&stem))
+                    .err()
+                    .unwrap_or_else(|| std::io::Error::other("no free name")),
             })?;
         let s = Staging { target: target.to_path_buf(), dir, done: false };
         fs::write(s.dir.join(MARKER), "written by gridswarm; this folder is replaced whole by the next run\n")
@@ -109,7 +131,8 @@ fn check_replaceable(target: &Path) -> Result<()> {
     if !meta.is_dir() {
         return Err(Error::Input(format!("--out `{}` exists and is not a folder", target.display())));
     }
-    let ours = |e: &fs::DirEntry| e.file_type().is_ok_and(|t| t.is_file()) && OUR_FILES.iter().any(|f| e.file_name() == *f);
+    let ours =
+        |e: &fs::DirEntry| e.file_type().is_ok_and(|t| t.is_file()) && OUR_FILES.iter().any(|f| e.file_name() == *f);
     let only_ours = fs::read_dir(target).map(|d| d.flatten().all(|e| ours(&e))).unwrap_or(false);
     if only_ours || target.join(MARKER).is_file() {
         return Ok(());
@@ -133,7 +156,8 @@ mod tests {
     }
 
     fn names(d: &Path) -> Vec<String> {
-        let mut v: Vec<String> = fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+        let mut v: Vec<String> =
+            fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
         v.sort();
         v
     }

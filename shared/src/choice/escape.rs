@@ -20,9 +20,9 @@
 use super::frontier::Frontier;
 use super::paths::Paths;
 use super::repulsive::{centre, repel, TIE};
-use rand::Rng;
 use super::{uniform, ChoiceRule, RuleRng, View};
 use crate::grid::VertexId;
+use rand::Rng;
 
 /// Nearest targets tried when the chosen one's shortest paths are all
 /// blocked: each costs a search of the map.
@@ -129,9 +129,14 @@ impl Escape {
         if !self.sources.is_empty() {
             self.others.distances_from(view.grid, view.map, &self.sources, view.blocked);
             let others = &self.others;
-            let d = self.paths.nearest_where(view.grid, view.map, view.position, view.blocked, &mut self.nearest, |v, d| {
-                others.dist(v).is_none_or(|o| d <= o)
-            });
+            let d = self.paths.nearest_where(
+                view.grid,
+                view.map,
+                view.position,
+                view.blocked,
+                &mut self.nearest,
+                |v, d| others.dist(v).is_none_or(|o| d <= o),
+            );
             if d.is_some() {
                 return d;
             }
@@ -139,4 +144,3 @@ impl Escape {
         self.paths.nearest_unvisited(view.grid, view.map, view.position, view.blocked, &mut self.nearest)
     }
 }
-

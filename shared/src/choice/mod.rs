@@ -88,7 +88,11 @@ impl View<'_> {
     pub fn split(&self) -> (Slots, Slots) {
         let (mut u, mut v) = (Slots::default(), Slots::default());
         for &c in self.candidates {
-            if self.visited(c) { v.push(c) } else { u.push(c) }
+            if self.visited(c) {
+                v.push(c)
+            } else {
+                u.push(c)
+            }
         }
         (u, v)
     }
@@ -97,7 +101,11 @@ impl View<'_> {
     /// there are none.
     pub fn unvisited_first(&self) -> Slots {
         let (u, v) = self.split();
-        if u.is_empty() { v } else { u }
+        if u.is_empty() {
+            v
+        } else {
+            u
+        }
     }
 }
 

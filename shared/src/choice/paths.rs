@@ -45,7 +45,13 @@ impl Paths {
             let k = s.iter().position(|p| p.stamp.len() == n)?;
             Some(s.swap_remove(k))
         });
-        spare.unwrap_or_else(|| Paths { stamp: vec![0; n], dist: vec![0; n], first: vec![NONE; n], queue: Vec::with_capacity(n), generation: 0 })
+        spare.unwrap_or_else(|| Paths {
+            stamp: vec![0; n],
+            dist: vec![0; n],
+            first: vec![NONE; n],
+            queue: Vec::with_capacity(n),
+            generation: 0,
+        })
     }
 
     /// Starts a search from `sources` (distance 0) with `blocked` closed.
@@ -76,7 +82,13 @@ impl Paths {
 
     /// Expands the search level by level until `done(v)` holds for a
     /// popped vertex; returns it, or `None` when the search is exhausted.
-    fn run(&mut self, grid: &Grid, map: &Map, g: u32, mut done: impl FnMut(&Self, VertexId) -> bool) -> Option<VertexId> {
+    fn run(
+        &mut self,
+        grid: &Grid,
+        map: &Map,
+        g: u32,
+        mut done: impl FnMut(&Self, VertexId) -> bool,
+    ) -> Option<VertexId> {
         let mut head = 0;
         while head < self.queue.len() {
             let v = self.queue[head];
@@ -100,7 +112,13 @@ impl Paths {
     /// The first step of a shortest path from `from` to the nearest known
     /// unvisited vertex (the first found in adjacency-slot order); `None`
     /// when none is reachable.
-    pub fn step_to_unvisited(&mut self, grid: &Grid, map: &Map, from: VertexId, blocked: &[VertexId]) -> Option<VertexId> {
+    pub fn step_to_unvisited(
+        &mut self,
+        grid: &Grid,
+        map: &Map,
+        from: VertexId,
+        blocked: &[VertexId],
+    ) -> Option<VertexId> {
         let g = self.start(grid.len(), &[from], blocked);
         let v = self.run(grid, map, g, |_, v| v != from && !map.visited(v))?;
         Some(self.first[v as usize])

@@ -49,7 +49,9 @@ fn check_name(name: &str) -> Result<(), String> {
         && name.starts_with(|c: char| c.is_ascii_lowercase())
         && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_' || c == '-');
     if !ok {
-        return Err(format!("bad algorithm name `{name}`: 1 to {MAX_NAME} characters a-z, 0-9, `_`, `-`, starting with a letter"));
+        return Err(format!(
+            "bad algorithm name `{name}`: 1 to {MAX_NAME} characters a-z, 0-9, `_`, `-`, starting with a letter"
+        ));
     }
     if Policy::ALL.iter().any(|p| p.name() == name) {
         return Err(format!("`{name}` is a built-in algorithm"));
@@ -114,7 +116,9 @@ pub fn rule_for(policy: Policy) -> Result<Box<dyn ChoiceRule>, String> {
         Policy::Escape => Box::<Escape>::default(),
         Policy::Frontier => Box::<Frontier>::default(),
         Policy::Lfp => return Err("lfp does not move on the grid: it has no choice rule".into()),
-        Policy::Oracle => return Err("oracle is a centralized planner, not a robot program: it has no choice rule".into()),
+        Policy::Oracle => {
+            return Err("oracle is a centralized planner, not a robot program: it has no choice rule".into())
+        }
         Policy::Custom(n) => {
             // Copied out, so a factory may itself use the registry.
             let factory = CUSTOM.read().unwrap_or_else(|e| e.into_inner())[n.0 as usize].factory;

@@ -50,10 +50,7 @@ pub fn run_files(prefix: &str, root: &Path) -> Vec<PathBuf> {
 /// root folder ([`run_root`]) goes as a whole: nothing else lives there.
 pub fn cleanup_run(prefix: &str, root: &Path) -> io::Result<usize> {
     if prefix_owner(prefix).is_none() {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!("`{prefix}` is not a run prefix"),
-        ));
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("`{prefix}` is not a run prefix")));
     }
     let files = run_files(prefix, root);
     let mut removed = 0;

@@ -76,18 +76,12 @@ pub fn publisher(service: &OutboxService) -> Result<OutboxPublisher, String> {
 }
 
 pub fn subscriber(service: &OutboxService, buffer: usize) -> Result<OutboxSubscriber, String> {
-    service
-        .subscriber_builder()
-        .buffer_size(buffer)
-        .create()
-        .map_err(|e| format!("cannot create subscriber: {e:?}"))
+    service.subscriber_builder().buffer_size(buffer).create().map_err(|e| format!("cannot create subscriber: {e:?}"))
 }
 
 /// Publishes one chunk of robot `robot`.
 pub fn publish(publisher: &OutboxPublisher, robot: u32, bytes: &[u8]) -> Result<(), String> {
-    let mut sample = publisher
-        .loan_slice_uninit(bytes.len())
-        .map_err(|e| format!("cannot loan a sample: {e:?}"))?;
+    let mut sample = publisher.loan_slice_uninit(bytes.len()).map_err(|e| format!("cannot loan a sample: {e:?}"))?;
     *sample.user_header_mut() = robot;
     sample.write_from_slice(bytes).send().map_err(|e| format!("cannot send: {e:?}"))?;
     Ok(())

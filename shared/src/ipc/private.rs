@@ -117,7 +117,9 @@ pub fn prepare_root(root: &Path) -> Result<(), String> {
     match DirBuilder::new().mode(0o700).create(root) {
         Ok(()) => {}
         Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {}
-        Err(e) => return Err(format!("cannot create iceoryx2's root folder {}: {e}{}", root.display(), parent_owner(root))),
+        Err(e) => {
+            return Err(format!("cannot create iceoryx2's root folder {}: {e}{}", root.display(), parent_owner(root)))
+        }
     }
     check_root(root)
 }
@@ -155,7 +157,8 @@ fn check_above(dir: &Path, what: &str) -> Result<(), String> {
 }
 
 fn check_root(root: &Path) -> Result<(), String> {
-    let m = fs::symlink_metadata(root).map_err(|e| format!("cannot inspect iceoryx2's root folder {}: {e}", root.display()))?;
+    let m = fs::symlink_metadata(root)
+        .map_err(|e| format!("cannot inspect iceoryx2's root folder {}: {e}", root.display()))?;
     if m.uid() != my_uid() {
         return Err(format!(
             "iceoryx2's root folder {} belongs to {}, not to this user ({}): that user could read or replace the run's files; remove it",
@@ -203,12 +206,8 @@ fn node_counter_bytes() -> [u8; NODE_COUNTER_BYTES] {
 
 /// Creates `path` (it must not exist) with mode 0600 and writes `bytes`.
 fn write_private(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let mut f = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .mode(0o600)
-        .custom_flags(libc::O_NOFOLLOW)
-        .open(path)?;
+    let mut f =
+        OpenOptions::new().write(true).create_new(true).mode(0o600).custom_flags(libc::O_NOFOLLOW).open(path)?;
     f.write_all(bytes)
 }
 
@@ -285,6 +284,10 @@ mod tests {
         let err = guard_node_counter(&prefix).unwrap_err();
         assert!(err.contains("mode 666") && err.contains(&path.display().to_string()), "{err}");
         fs::remove_file(&path).unwrap();
-        assert_eq!(super::super::run_files(&prefix, &run_root(&prefix)), Vec::<PathBuf>::new(), "no temporary file left");
+        assert_eq!(
+            super::super::run_files(&prefix, &run_root(&prefix)),
+            Vec::<PathBuf>::new(),
+            "no temporary file left"
+        );
     }
 }

@@ -191,9 +191,17 @@ mod tests {
     #[test]
     fn a_send_failure_iceoryx2_only_logs_is_counted() {
         let before = SEND_FAILURES.load(Ordering::SeqCst);
-        LOGGER.log(LogLevel::Warn, format_args!("Notifier"), format_args!("Unable to send notification to single listener via connection x due to y."));
+        LOGGER.log(
+            LogLevel::Warn,
+            format_args!("Notifier"),
+            format_args!("Unable to send notification to single listener via connection x due to y."),
+        );
         LOGGER.log(LogLevel::Warn, format_args!("Notifier"), format_args!("Something else."));
-        LOGGER.log(LogLevel::Error, format_args!("Notifier"), format_args!("Unable to send notification, but an error"));
+        LOGGER.log(
+            LogLevel::Error,
+            format_args!("Notifier"),
+            format_args!("Unable to send notification, but an error"),
+        );
         assert_eq!(SEND_FAILURES.load(Ordering::SeqCst), before + 1);
         assert!(is_send_failure("Unable to send notification via connection c due to e."), "notify's own wording too");
     }

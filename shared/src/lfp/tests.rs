@@ -114,11 +114,7 @@ fn result_fields_are_filled() {
     let p = w.params;
     let lo = r.rounds as f64 * (p.t_choice + p.t_trans);
     let hi = lo + r.rounds as f64 * p.t_rot + r.collisions as f64 * p.move_time();
-    assert!(
-        r.search_time_s >= lo - 1e-9 && r.search_time_s <= hi + 1e-9,
-        "{} not in [{lo}, {hi}]",
-        r.search_time_s
-    );
+    assert!(r.search_time_s >= lo - 1e-9 && r.search_time_s <= hi + 1e-9, "{} not in [{lo}, {hi}]", r.search_time_s);
     // The first round always rotates (every robot starts a flight).
     assert!(r.search_time_s >= lo + p.t_rot - 1e-9);
 }
@@ -252,7 +248,10 @@ fn the_field_keeps_collisions_rare() {
     let sonar = count(&LfpParams::default());
     let radio = count(&LfpParams { repel_range: RepelRange::Radio, ..LfpParams::default() });
     eprintln!("collisions in 30 runs of 13 robots: blind {blind}, sonar {sonar}, radio {radio}");
-    assert!(sonar <= 45 && radio <= 15 && radio < sonar && 5 * sonar < blind, "blind {blind}, sonar {sonar}, radio {radio}");
+    assert!(
+        sonar <= 45 && radio <= 15 && radio < sonar && 5 * sonar < blind,
+        "blind {blind}, sonar {sonar}, radio {radio}"
+    );
 }
 
 #[test]

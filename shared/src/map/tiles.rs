@@ -199,7 +199,8 @@ impl PartialEq for Tiles {
         self.vertices == other.vertices
             && self.tiles.len() == other.tiles.len()
             && self.tiles.iter().zip(&other.tiles).enumerate().all(|(i, (a, b))| {
-                Rc::ptr_eq(a, b) || (a == b && (same || a.masked().all(|k| self.mask(i * TILE + k) == other.mask(i * TILE + k))))
+                Rc::ptr_eq(a, b)
+                    || (a == b && (same || a.masked().all(|k| self.mask(i * TILE + k) == other.mask(i * TILE + k))))
             })
     }
 }
@@ -390,7 +391,8 @@ impl Tiles {
             return None;
         }
         let n = vertices.div_ceil(TILE);
-        let mut t = Tiles { vertices, tiles: vec![empty(); n], masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)) };
+        let mut t =
+            Tiles { vertices, tiles: vec![empty(); n], masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)) };
         for (v, &b) in open.iter().enumerate() {
             if b != 0 {
                 t.set_mask(v, b);

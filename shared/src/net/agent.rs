@@ -36,7 +36,10 @@ impl ZenohAgent {
     pub fn open(net: &NetConfig, robot: usize) -> Result<Self, String> {
         let root = net.root()?;
         let session = zenoh::open(net.zenoh("client")?).wait().map_err(err("cannot reach the world"))?;
-        let inbox = session.declare_subscriber(format!("{root}/in/{robot}")).wait().map_err(err("cannot subscribe to the inbox"))?;
+        let inbox = session
+            .declare_subscriber(format!("{root}/in/{robot}"))
+            .wait()
+            .map_err(err("cannot subscribe to the inbox"))?;
         let outbox = publisher(&session, format!("{root}/out/{robot}"), "cannot declare the outbox")?;
         let world = session
             .liveliness()
@@ -44,7 +47,11 @@ impl ZenohAgent {
             .history(true)
             .wait()
             .map_err(err("cannot follow the world's token"))?;
-        let token = session.liveliness().declare_token(format!("{root}/alive/{robot}")).wait().map_err(err("cannot declare the robot's token"))?;
+        let token = session
+            .liveliness()
+            .declare_token(format!("{root}/alive/{robot}"))
+            .wait()
+            .map_err(err("cannot declare the robot's token"))?;
         let agent = ZenohAgent {
             outbox,
             inbox,

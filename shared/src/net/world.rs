@@ -66,7 +66,11 @@ impl ZenohWorld {
             .with(FifoChannel::new(QUEUE))
             .wait()
             .map_err(err("cannot follow the robots' tokens"))?;
-        let token = session.liveliness().declare_token(format!("{root}/world")).wait().map_err(err("cannot declare the world's token"))?;
+        let token = session
+            .liveliness()
+            .declare_token(format!("{root}/world"))
+            .wait()
+            .map_err(err("cannot declare the world's token"))?;
         Ok(ZenohWorld {
             inboxes,
             answers,
@@ -110,9 +114,9 @@ impl ZenohWorld {
         }
         self.follow_tokens();
         let presence = self.presence.borrow();
-        self.outstanding.borrow_mut().repeat_due(now, |r, c| {
-            presence[r] != Presence::Gone && self.inboxes[r].put(c.to_vec()).wait().is_ok()
-        });
+        self.outstanding
+            .borrow_mut()
+            .repeat_due(now, |r, c| presence[r] != Presence::Gone && self.inboxes[r].put(c.to_vec()).wait().is_ok());
     }
 
     /// How many messages were put again for want of an answer.

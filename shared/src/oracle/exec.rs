@@ -175,14 +175,16 @@ impl<'a> Exec<'a> {
     /// after [`DETOUR_AFTER`] rounds otherwise (robots head-on).
     fn step_aside(&self, v: u32, k: usize, end: &mut [Option<u32>]) -> bool {
         let patient = self.walkers[k].blocked < DETOUR_AFTER;
-        let standing =
-            (0..self.walkers.len()).find(|&j| j != k && end[j].is_none() && self.walkers[j].at == v && !(patient && self.busy(j)));
+        let standing = (0..self.walkers.len())
+            .find(|&j| j != k && end[j].is_none() && self.walkers[j].at == v && !(patient && self.busy(j)));
         let Some(j) = standing else { return false };
         let held = |u: u32| self.walkers.iter().enumerate().any(|(m, w)| m != j && end[m].unwrap_or(w.at) == u);
-        let free = self.d.adj[v as usize]
-            .iter()
-            .copied()
-            .find(|&u| u != self.walkers[k].at && !held(u) && self.clashes(j, u, end) == 0 && !self.meets(self.walkers[k].at, v, v, u));
+        let free = self.d.adj[v as usize].iter().copied().find(|&u| {
+            u != self.walkers[k].at
+                && !held(u)
+                && self.clashes(j, u, end) == 0
+                && !self.meets(self.walkers[k].at, v, v, u)
+        });
         end[j] = free;
         free.is_some()
     }

@@ -51,7 +51,12 @@ fn robots_never_meet() {
         for i in 0..starts.len() {
             for j in i + 1..starts.len() {
                 let (a, b) = (&r.trajectories[i], &r.trajectories[j]);
-                let d = crate::geometry::swept_min_distance(a[k].position, a[k + 1].position, b[k].position, b[k + 1].position);
+                let d = crate::geometry::swept_min_distance(
+                    a[k].position,
+                    a[k + 1].position,
+                    b[k].position,
+                    b[k + 1].position,
+                );
                 assert!(d >= limit, "robots {i} and {j} meet in round {k}");
             }
         }
@@ -73,7 +78,12 @@ fn the_plan_shares_one_robots_tour_out() {
         let makespan = plan::makespan(&d, &routes);
         // Cutting the tour into shares costs each robot at most the walk to
         // its share: the farthest any start is from any vertex.
-        let far = starts.iter().flat_map(|&s| (0..d.len() as u32).map(move |v| (s, v))).map(|(s, v)| d.get(s, v)).max().unwrap();
+        let far = starts
+            .iter()
+            .flat_map(|&s| (0..d.len() as u32).map(move |v| (s, v)))
+            .map(|(s, v)| d.get(s, v))
+            .max()
+            .unwrap();
         let bound = single.div_ceil(robots as u32) + far;
         assert!(makespan <= bound, "{robots} robots: makespan {makespan} > {bound} (single {single})");
         // And never below the vertices each robot must still reach.

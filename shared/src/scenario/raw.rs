@@ -256,7 +256,10 @@ impl RawParams {
         if p.t_hop >= p.t_exchange {
             return Err(ctx.err(
                 "params.t_hop",
-                format!("must be below t_exchange = {} (a map must be able to arrive within the exchange), got {}", p.t_exchange, p.t_hop),
+                format!(
+                    "must be below t_exchange = {} (a map must be able to arrive within the exchange), got {}",
+                    p.t_exchange, p.t_hop
+                ),
             ));
         }
         if let Some(r) = self.retries {
@@ -274,7 +277,10 @@ impl RawParams {
         p.choices_update_maps = self.choices_update_maps.unwrap_or(p.choices_update_maps);
         if let Some(name) = self.ru_collisions {
             p.ru_collisions = RuCollisions::from_name(&name).ok_or_else(|| {
-                ctx.err("params.ru_collisions", format!("must be one of {}, got `{name}`", RuCollisions::NAMES.join(", ")))
+                ctx.err(
+                    "params.ru_collisions",
+                    format!("must be one of {}, got `{name}`", RuCollisions::NAMES.join(", ")),
+                )
             })?;
         }
         Ok(p)

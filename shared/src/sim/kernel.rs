@@ -7,7 +7,9 @@ use std::rc::Rc;
 
 use super::medium::Medium;
 use super::stats::{FailureRecord, ProtocolStats};
-use super::{micros, seconds, Delivery, Fault, FaultKind, Framed, Listen, Motor, Note, Output, Robots, Tick, Time, WakeCall};
+use super::{
+    micros, seconds, Delivery, Fault, FaultKind, Framed, Listen, Motor, Note, Output, Robots, Tick, Time, WakeCall,
+};
 use crate::geometry::Point;
 use crate::grid::VertexId;
 use crate::map::RobotId;
@@ -29,17 +31,32 @@ enum Body {
 #[derive(Debug)]
 enum Ev<P> {
     SlotStart,
-    Deliver { to: u32, d: Delivery<P> },
+    Deliver {
+        to: u32,
+        d: Delivery<P>,
+    },
     /// A frame reaching several robots at once (a perfect radio).
-    Broadcast { to: Rc<[u32]>, d: Delivery<P> },
-    Alarm { robot: u32, gen: u64 },
+    Broadcast {
+        to: Rc<[u32]>,
+        d: Delivery<P>,
+    },
+    Alarm {
+        robot: u32,
+        gen: u64,
+    },
     Fault(usize),
     /// A slow robot's delayed wake-up.
-    React { robot: u32 },
+    React {
+        robot: u32,
+    },
     /// Every motor command is in; the slot ends when the last one is due.
-    Close { round: u32 },
+    Close {
+        round: u32,
+    },
     /// The slot's hard limit.
-    Limit { round: u32 },
+    Limit {
+        round: u32,
+    },
 }
 
 /// The event queue: a min-heap of small keys over a slab of events, so
@@ -364,7 +381,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                     self.bots[r].tick_due = true;
                     self.mark(r);
                 }
-                if let Some(rec) = self.stats.failures.iter_mut().rev().find(|x| x.robot as usize == r && x.kind == "freeze") {
+                if let Some(rec) =
+                    self.stats.failures.iter_mut().rev().find(|x| x.robot as usize == r && x.kind == "freeze")
+                {
                     rec.thawed_s.get_or_insert(seconds(now));
                 }
             }
@@ -463,12 +482,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             b.react_now = false;
             let tick = if std::mem::take(&mut self.bots[r].tick_due) { Some(self.tick(r)) } else { None };
             let b = &mut self.bots[r];
-            calls.push(WakeCall {
-                robot: r,
-                now: self.now,
-                tick,
-                frames: std::mem::take(&mut b.pending),
-            });
+            calls.push(WakeCall { robot: r, now: self.now, tick, frames: std::mem::take(&mut b.pending) });
             ids.push(r);
         }
         marked.clear();
@@ -506,7 +520,13 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         if self.trace {
             eprintln!(
                 "{:>10} r{} robot {r}: send {} motor {:?} alarm {:?} listen {:?} notes {:?}",
-                now, self.round, out.send.len(), out.motor, out.alarm, out.listen, out.notes
+                now,
+                self.round,
+                out.send.len(),
+                out.motor,
+                out.alarm,
+                out.listen,
+                out.notes
             );
         }
         for tx in out.send.drain(..) {
@@ -676,7 +696,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 .iter()
                 .zip(&next)
                 .enumerate()
-                .map(|(k, (&a, &b))| format!("{k}:{:?}->{:?}", (g.coord(a).i, g.coord(a).j), (g.coord(b).i, g.coord(b).j)))
+                .map(|(k, (&a, &b))| {
+                    format!("{k}:{:?}->{:?}", (g.coord(a).i, g.coord(a).j), (g.coord(b).i, g.coord(b).j))
+                })
                 .collect();
             eprintln!("COLLISION round {}: {}", self.round, moves.join(" "));
         }
@@ -717,7 +739,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         } else if self.round >= self.cfg.max_rounds && searching_left(&self.bots) {
             self.ended = Some("max_rounds");
         } else if !searching_left(&self.bots) && !self.thaw_ahead() {
-            self.ended = Some(if self.bots.iter().any(|b| b.halted && b.body != Body::Dead) { "cut_off" } else { "no_robots" });
+            self.ended =
+                Some(if self.bots.iter().any(|b| b.halted && b.body != Body::Dead) { "cut_off" } else { "no_robots" });
         } else if self.round >= self.cfg.max_rounds {
             self.ended = Some("max_rounds");
         } else {
@@ -729,7 +752,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
     /// Whether a frozen robot is due to thaw later.
     fn thaw_ahead(&self) -> bool {
         self.cfg.faults.iter().any(|f| {
-            f.kind == FaultKind::Thaw && self.bots.get(f.robot).is_some_and(|b| b.body == Body::Frozen) && f.round >= self.round
+            f.kind == FaultKind::Thaw
+                && self.bots.get(f.robot).is_some_and(|b| b.body == Body::Frozen)
+                && f.round >= self.round
         }) || self.queue.events().any(|e| matches!(e, Ev::Fault(i) if self.cfg.faults[*i].kind == FaultKind::Thaw))
     }
 
@@ -737,14 +762,22 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         let world = self.world;
         let ended = self.ended.unwrap_or("max_rounds");
         self.stats.ended_by = ended.to_string();
-        let dead: Vec<VertexId> =
-            (0..self.bots.len()).filter(|&k| self.bots[k].body != Body::Running).map(|k| self.referee.position(k)).collect();
+        let dead: Vec<VertexId> = (0..self.bots.len())
+            .filter(|&k| self.bots[k].body != Body::Running)
+            .map(|k| self.referee.position(k))
+            .collect();
         let complete = match self.cfg.situation {
             Situation::One => self.stats.stop_round.is_some() && self.referee.found().count() == world.targets.len(),
             Situation::Two if matches!(ended, "stop" | "cut_off") => {
-                let live: Vec<VertexId> =
-                    (0..self.bots.len()).filter(|&k| self.bots[k].body == Body::Running).map(|k| self.referee.position(k)).collect();
-                let va = if dead.is_empty() { world.reachable_from(&self.starts) } else { world.reachable_avoiding(&live, &dead) };
+                let live: Vec<VertexId> = (0..self.bots.len())
+                    .filter(|&k| self.bots[k].body == Body::Running)
+                    .map(|k| self.referee.position(k))
+                    .collect();
+                let va = if dead.is_empty() {
+                    world.reachable_from(&self.starts)
+                } else {
+                    world.reachable_avoiding(&live, &dead)
+                };
                 (0..world.grid.len()).all(|v| !va[v] || self.referee.visited().get(v))
             }
             Situation::Two => false,

@@ -28,7 +28,8 @@ impl Robots for Plain<'_> {
             let frames = call.frames.iter().map(|d| (d.from, &*d.payload));
             self.peers[call.robot].wake(call.now, call.tick.as_ref(), frames, &mut self.out);
             let o = &mut self.out;
-            let send = o.send.drain(..).map(|t| Transmit { payload: Rc::new(t.payload), ready: t.ready, copies: t.copies });
+            let send =
+                o.send.drain(..).map(|t| Transmit { payload: Rc::new(t.payload), ready: t.ready, copies: t.copies });
             let listen = if self.unfiltered && o.listen.on { Listen::ALL } else { o.listen };
             let notes = std::mem::take(&mut o.notes);
             outputs.push(Some(Output { send: send.collect(), motor: o.motor, alarm: o.alarm, listen, notes }));
@@ -43,7 +44,8 @@ fn run(case: &vopr::Case, unfiltered: bool) -> RunResult {
     let world = sc.world();
     let starts = sc.start_vertices(&world, case.robots).unwrap();
     let cfg = &case.config;
-    let peers = (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(&world, cfg, k).peer_config())).collect();
+    let peers =
+        (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(&world, cfg, k).peer_config())).collect();
     let mut robots = Plain { peers, out: Output::default(), unfiltered };
     Kernel::new(&world, &starts, cfg).run(&mut robots)
 }

@@ -142,15 +142,15 @@ mod tests {
 
     #[test]
     fn links_are_the_robots_within_range() {
-        let pts: Vec<Point> =
-            [(0.0, 0.0), (2.0, 0.0), (2.06, 0.0), (-1.0, -1.0), (10.0, 10.0)].iter().map(|&(x, y)| Point::new(x, y)).collect();
+        let pts: Vec<Point> = [(0.0, 0.0), (2.0, 0.0), (2.06, 0.0), (-1.0, -1.0), (10.0, 10.0)]
+            .iter()
+            .map(|&(x, y)| Point::new(x, y))
+            .collect();
         let mut m = Medium::new(1, Radio::default(), 1000, 2.05, pts.len());
         m.relink(&pts);
         for k in 0..pts.len() {
-            let want: Vec<u32> = (0..pts.len())
-                .filter(|&j| j != k && (pts[j] - pts[k]).norm() <= 2.05)
-                .map(|j| j as u32)
-                .collect();
+            let want: Vec<u32> =
+                (0..pts.len()).filter(|&j| j != k && (pts[j] - pts[k]).norm() <= 2.05).map(|j| j as u32).collect();
             assert_eq!(m.links(k), &want[..], "robot {k}");
         }
     }

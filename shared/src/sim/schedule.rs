@@ -73,7 +73,8 @@ pub fn parse_slow(s: &str) -> Result<Fault, String> {
     let (robot, rest) = robot_at(s, "ROBOT@ROUND[+SECONDS]:MS, e.g. 1@0:300")?;
     let (when, ms) = rest.rsplit_once(':').ok_or_else(|| format!("`{s}`: expected ROBOT@ROUND[+SECONDS]:MS"))?;
     let (round, offset) = parse_when(when).map_err(|e| format!("`{s}`: {e}"))?;
-    let ms: u64 = ms.trim().parse().map_err(|_| format!("`{s}`: `{}` is not a whole number of milliseconds", ms.trim()))?;
+    let ms: u64 =
+        ms.trim().parse().map_err(|_| format!("`{s}`: `{}` is not a whole number of milliseconds", ms.trim()))?;
     if ms > 3_600_000 {
         return Err(format!("`{s}`: at most an hour late"));
     }
@@ -169,7 +170,12 @@ mod tests {
     fn faults_parse_and_print_back() {
         assert_eq!(parse_kill("3@5").unwrap(), Fault { robot: 3, round: 5, offset: 0, kind: FaultKind::Crash });
         assert_eq!(parse_kill("3@5+0.25").unwrap().offset, 250_000);
-        assert!(parse_kill("3").is_err() && parse_kill("a@5").is_err() && parse_kill("3@x").is_err() && parse_kill("3@5+-1").is_err());
+        assert!(
+            parse_kill("3").is_err()
+                && parse_kill("a@5").is_err()
+                && parse_kill("3@x").is_err()
+                && parse_kill("3@5+-1").is_err()
+        );
         let fr = parse_freeze("2@4:9+0.5").unwrap();
         assert_eq!(fr.len(), 2);
         assert_eq!(fr[1], Fault { robot: 2, round: 9, offset: 500_000, kind: FaultKind::Thaw });

@@ -45,8 +45,8 @@ use crate::rundir::{self, RunRecord};
 use crate::staging::Staging;
 
 pub use files::temp_files;
-pub use net::NetOptions;
 use files::RunFiles;
+pub use net::NetOptions;
 use spawn::Processes;
 
 /// How long agents get to exit by themselves after the end.
@@ -178,7 +178,10 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
     schedule::check(&opts.faults, robots).map_err(Error::Input)?;
     opts.net.check()?;
     if opts.net.remote_agents.is_some() && (!opts.faults.is_empty() || opts.kill_random > 0) {
-        return Err(Error::Input("faults are applied by signalling the agents' processes; with --remote-agents the orchestrator has none".into()));
+        return Err(Error::Input(
+            "faults are applied by signalling the agents' processes; with --remote-agents the orchestrator has none"
+                .into(),
+        ));
     }
     for (name, p) in [("--loss", opts.radio.loss), ("--dup", opts.radio.dup)] {
         if !(0.0..=1.0).contains(&p) {
@@ -239,7 +242,12 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     ipc::sweep_stale(&root);
     files::sweep_stale();
     let files = RunFiles::create(&prefix)?;
-    let run_file = RunFile { scenario: opts.scenario.clone(), robots: plan.robots, retries: opts.retries, config: plan.cfg.clone() };
+    let run_file = RunFile {
+        scenario: opts.scenario.clone(),
+        robots: plan.robots,
+        retries: opts.retries,
+        config: plan.cfg.clone(),
+    };
     files.write(&run_file, &plan.world, &plan.cfg)?;
 
     let (tx, rx) = mpsc::channel();

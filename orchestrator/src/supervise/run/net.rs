@@ -37,7 +37,9 @@ impl NetOptions {
     /// Refuses settings that mean nothing for the transport.
     pub fn check(&self) -> Result<()> {
         if self.transport == Transport::Iceoryx2 && (!self.listen.is_empty() || self.remote_agents.is_some()) {
-            return Err(Error::Input("--listen and --remote-agents need --transport zenoh (iceoryx2 is one machine's shared memory)".into()));
+            return Err(Error::Input(
+                "--listen and --remote-agents need --transport zenoh (iceoryx2 is one machine's shared memory)".into(),
+            ));
         }
         if let Some(key) = &self.remote_agents {
             transport::check_key(key).map_err(|e| Error::Input(format!("--remote-agents: {e}")))?;
@@ -76,7 +78,8 @@ impl NetOptions {
 /// What to run on each agent's host, for `--remote-agents KEY`.
 pub fn hand_hint(key: &str, opts: &super::RunOptions, plan: &super::Plan) -> String {
     // An agent reaches a world listening on every address at one of them.
-    let connect: String = opts.net.listen.iter().map(|e| format!(" --connect {}", e.replace("0.0.0.0", "WORLD_HOST"))).collect();
+    let connect: String =
+        opts.net.listen.iter().map(|e| format!(" --connect {}", e.replace("0.0.0.0", "WORLD_HOST"))).collect();
     let mut extra = String::new();
     if let Some(s) = opts.situation {
         extra += &format!(" --situation {}", if s == gridswarm::params::Situation::One { 1 } else { 2 });
@@ -94,7 +97,8 @@ pub fn hand_hint(key: &str, opts: &super::RunOptions, plan: &super::Plan) -> Str
 /// A TCP port of 127.0.0.1 free now. The world binds it an instant later;
 /// another process taking it meanwhile makes the world fail, loudly.
 fn free_port() -> Result<u16> {
-    let l = TcpListener::bind("127.0.0.1:0").map_err(|e| Error::Run(format!("cannot find a free port on 127.0.0.1: {e}")))?;
+    let l = TcpListener::bind("127.0.0.1:0")
+        .map_err(|e| Error::Run(format!("cannot find a free port on 127.0.0.1: {e}")))?;
     l.local_addr().map(|a| a.port()).map_err(|e| Error::Run(format!("cannot find a free port on 127.0.0.1: {e}")))
 }
 
@@ -125,7 +129,8 @@ mod tests {
 
     #[test]
     fn remote_agents_need_a_plain_key_and_scout_without_endpoints() {
-        let mut o = NetOptions { transport: Transport::Zenoh, remote_agents: Some("lab/1".into()), ..Default::default() };
+        let mut o =
+            NetOptions { transport: Transport::Zenoh, remote_agents: Some("lab/1".into()), ..Default::default() };
         assert!(o.check().is_err());
         o.remote_agents = Some("lab1".into());
         assert!(o.check().is_ok());

@@ -144,8 +144,7 @@ impl Processes {
         // It removes the run's files on SIGTERM: after a kill -9 of this
         // process, nobody else would until the next run.
         launch::guard(&mut cmd, libc::SIGTERM);
-        let mut child =
-            cmd.spawn().map_err(|e| Error::Run(format!("cannot start {}: {e}", bin.display())))?;
+        let mut child = cmd.spawn().map_err(|e| Error::Run(format!("cannot start {}: {e}", bin.display())))?;
         self.world_in = child.stdin.take();
         if let Some(out) = child.stdout.take() {
             launch::read_lines(out, tx);
@@ -271,13 +270,8 @@ mod tests {
     #[test]
     fn a_failed_spawn_is_named_and_the_rest_are_returned() {
         let mut sp = Spawners::default();
-        let (mut kids, err) = sp.spawn_all(5, |i| {
-            if i == 3 {
-                Ok(Command::new("/nonexistent/robot-agent"))
-            } else {
-                sleeper(i)
-            }
-        });
+        let (mut kids, err) =
+            sp.spawn_all(5, |i| if i == 3 { Ok(Command::new("/nonexistent/robot-agent")) } else { sleeper(i) });
         let err = err.expect("robot-agent 3 cannot start").to_string();
         assert!(err.contains("cannot start robot-agent 3"), "{err}");
         assert_eq!(kids.len(), 4);

@@ -82,7 +82,14 @@ fn per_robot_round(count: u64, result: &RunResult) -> Option<f64> {
 }
 
 /// The engine=distributed fields of the summary.
-pub fn extra(prefix: &str, opts: &RunOptions, plan: &Plan, report: &RunReport, f: &Followed, killed_at_end: usize) -> Value {
+pub fn extra(
+    prefix: &str,
+    opts: &RunOptions,
+    plan: &Plan,
+    report: &RunReport,
+    f: &Followed,
+    killed_at_end: usize,
+) -> Value {
     let r = &report.result;
     let wall = &report.round_wall_ms;
     let rss: Vec<f64> = report.agent_peak_rss_kib.iter().filter(|&&k| k > 0).map(|&k| k as f64).collect();
@@ -130,7 +137,10 @@ pub fn extra(prefix: &str, opts: &RunOptions, plan: &Plan, report: &RunReport, f
 /// A warning about agents that did not end cleanly (faulted robots aside).
 pub fn agent_warning(cfg: &RunConfig, applied: &[bool], status: &[Option<i32>], log: &Path) -> Option<String> {
     let faulted = |r: usize| {
-        cfg.faults.iter().zip(applied).any(|(f, &a)| a && f.robot == r && matches!(f.kind, FaultKind::Crash | FaultKind::Freeze))
+        cfg.faults
+            .iter()
+            .zip(applied)
+            .any(|(f, &a)| a && f.robot == r && matches!(f.kind, FaultKind::Crash | FaultKind::Freeze))
     };
     let bad: Vec<usize> = (0..status.len()).filter(|&r| !faulted(r) && status[r] != Some(0)).collect();
     if bad.is_empty() {
@@ -142,9 +152,16 @@ pub fn agent_warning(cfg: &RunConfig, applied: &[bool], status: &[Option<i32>], 
 }
 
 /// The terminal text of a run.
-pub fn text(scenario: &Scenario, result: &RunResult, report: &RunReport, summary: &Value, written: &[PathBuf]) -> String {
+pub fn text(
+    scenario: &Scenario,
+    result: &RunResult,
+    report: &RunReport,
+    summary: &Value,
+    written: &[PathBuf],
+) -> String {
     let p = &result.protocol;
-    let mut text = crate::output::headline(scenario, result, ": one process per robot", &format!("refused moves {}; ", p.refused));
+    let mut text =
+        crate::output::headline(scenario, result, ": one process per robot", &format!("refused moves {}; ", p.refused));
     let ms = |v: &Value| v.as_f64().map(|x| format!("{x:.3}")).unwrap_or_else(|| "-".into());
     text += &format!(
         "wall time per round: p50 {} ms, p99 {} ms, max {} ms; start-up {:.0} ms; \
@@ -158,11 +175,19 @@ pub fn text(scenario: &Scenario, result: &RunResult, report: &RunReport, summary
     );
     for i in summary["failures_injected"].as_array().into_iter().flatten() {
         let done = if i["applied"] == true { "" } else { " (not applied: the search ended first)" };
-        text += &format!("injected: {} robot {} at round {} + {} s{done}\n", i["kind"].as_str().unwrap_or("?"), i["robot"], i["round"], i["offset_s"]);
+        text += &format!(
+            "injected: {} robot {} at round {} + {} s{done}\n",
+            i["kind"].as_str().unwrap_or("?"),
+            i["robot"],
+            i["round"],
+            i["offset_s"]
+        );
     }
     for r in &p.failures {
         match r.detected_round {
-            Some(k) => text += &format!("declared: robot {} ({}) in round {k} by {:?}\n", r.robot, r.kind, r.declared_by),
+            Some(k) => {
+                text += &format!("declared: robot {} ({}) in round {k} by {:?}\n", r.robot, r.kind, r.declared_by)
+            }
             None => text += &format!("never declared: robot {} ({})\n", r.robot, r.kind),
         }
     }
