@@ -2,21 +2,23 @@
 //! faults. Generic over how robots are reached ([`Robots`]), so the
 //! in-process engine and the world-server run this same loop.
 
-use std::collections::BinaryHeap;
 use std::rc::Rc;
 
 use super::medium::Medium;
-use super::stats::{FailureRecord, ProtocolStats};
-use super::{
-    micros, seconds, Delivery, Fault, FaultKind, Framed, Listen, Motor, Note, Output, Robots, Tick, Time, WakeCall,
-};
+use super::stats::ProtocolStats;
+use super::{micros, seconds, Delivery, Framed, Listen, Motor, Output, Robots, Tick, Time, WakeCall};
 use crate::geometry::Point;
 use crate::grid::VertexId;
 use crate::map::RobotId;
 use crate::outcome::{Pose, RunConfig, RunResult};
-use crate::params::Situation;
 use crate::referee::Referee;
 use crate::world::World;
+use queue::Queue;
+
+mod faults;
+mod finish;
+mod notes;
+mod queue;
 
 /// A run's settings for the world.
 pub type Settings = RunConfig;
@@ -57,50 +59,6 @@ enum Ev<P> {
     Limit {
         round: u32,
     },
-}
-
-/// The event queue: a min-heap of small keys over a slab of events, so
-/// that sifting moves 24 bytes, not whole events.
-struct Queue<P> {
-    heap: BinaryHeap<std::cmp::Reverse<(Time, u64, u32)>>,
-    slab: Vec<Option<Ev<P>>>,
-    free: Vec<u32>,
-    seq: u64,
-}
-
-impl<P> Queue<P> {
-    fn new() -> Self {
-        Queue { heap: BinaryHeap::new(), slab: Vec::new(), free: Vec::new(), seq: 0 }
-    }
-
-    fn push(&mut self, time: Time, ev: Ev<P>) {
-        self.seq += 1;
-        let k = match self.free.pop() {
-            Some(k) => {
-                self.slab[k as usize] = Some(ev);
-                k
-            }
-            None => {
-                self.slab.push(Some(ev));
-                (self.slab.len() - 1) as u32
-            }
-        };
-        self.heap.push(std::cmp::Reverse((time, self.seq, k)));
-    }
-
-    fn peek_time(&self) -> Option<Time> {
-        self.heap.peek().map(|e| e.0 .0)
-    }
-
-    fn pop(&mut self) -> Option<(Time, Ev<P>)> {
-        let std::cmp::Reverse((t, _, k)) = self.heap.pop()?;
-        self.free.push(k);
-        Some((t, self.slab[k as usize].take().expect("a queued event")))
-    }
-
-    fn events(&self) -> impl Iterator<Item = &Ev<P>> {
-        self.slab.iter().flatten()
-    }
 }
 
 struct Bot<P> {
@@ -351,69 +309,6 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         }
     }
 
-    fn apply_fault(&mut self, f: &Fault) {
-        self.may_close = true;
-        if self.trace {
-            eprintln!("{:>10} r{} fault {f:?}", self.now, self.round);
-        }
-        let r = f.robot;
-        if r >= self.bots.len() {
-            return;
-        }
-        let now = self.now;
-        let body = self.bots[r].body;
-        match f.kind {
-            FaultKind::Crash if body != Body::Dead => {
-                let b = &mut self.bots[r];
-                b.body = Body::Dead;
-                b.pending.clear();
-                self.open_record(r, "crash");
-            }
-            FaultKind::Freeze if body == Body::Running => {
-                self.bots[r].body = Body::Frozen;
-                self.open_record(r, "freeze");
-            }
-            FaultKind::Thaw if body == Body::Frozen => {
-                self.bots[r].body = Body::Running;
-                // Its sensors are read afresh: it must know the slot it is
-                // in. Between slots, the next slot's start wakes it.
-                if self.slot_open {
-                    self.bots[r].tick_due = true;
-                    self.mark(r);
-                }
-                if let Some(rec) =
-                    self.stats.failures.iter_mut().rev().find(|x| x.robot as usize == r && x.kind == "freeze")
-                {
-                    rec.thawed_s.get_or_insert(seconds(now));
-                }
-            }
-            FaultKind::Slow(s) => self.bots[r].slow = s,
-            _ => {}
-        }
-    }
-
-    fn open_record(&mut self, r: usize, kind: &str) {
-        // Between a slot's close and the next slot's start the robots are
-        // still moving: that belongs to the slot that closed.
-        let round = if self.slot_open { self.round } else { self.round.saturating_sub(1) };
-        self.stats.failures.push(FailureRecord {
-            robot: r as RobotId,
-            kind: kind.to_string(),
-            round,
-            at_s: seconds(self.now),
-            ..Default::default()
-        });
-    }
-
-    /// The failure record of robot `j` that is in force now, if any.
-    fn record_of(&self, j: usize) -> Option<usize> {
-        let b = self.bots.get(j)?;
-        if b.body == Body::Running {
-            return None;
-        }
-        self.stats.failures.iter().rposition(|x| x.robot as usize == j && x.thawed_s.is_none())
-    }
-
     fn begin_slot(&mut self) {
         self.slot_start = self.now;
         self.slot_open = true;
@@ -594,46 +489,6 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         }
     }
 
-    fn note(&mut self, r: usize, note: Note) {
-        let st = &mut self.stats;
-        match note {
-            Note::Declared { robot } => {
-                st.declarations += 1;
-                let j = robot as usize;
-                if self.bots.get(j).is_some_and(|b| b.body == Body::Running) {
-                    self.stats.false_suspicions += 1;
-                }
-                if let Some(i) = self.record_of(j) {
-                    let (round, now) = (self.round, seconds(self.now));
-                    let rec = &mut self.stats.failures[i];
-                    if rec.detected_round.is_none() {
-                        rec.detected_round = Some(round);
-                        rec.detected_s = Some(now);
-                    }
-                    if !rec.declared_by.contains(&(r as RobotId)) {
-                        rec.declared_by.push(r as RobotId);
-                    }
-                }
-            }
-            Note::Rejoined { .. } => st.rejoins += 1,
-            Note::TimedOut { robot } => {
-                st.timeouts += 1;
-                if let Some(i) = self.record_of(robot as usize) {
-                    self.waiters.push((i, r as RobotId, self.round));
-                }
-            }
-            Note::Unsure => st.unsure += 1,
-            Note::Stopped { ends_search, relayed } => {
-                if ends_search && !relayed && st.stop_round.is_none() {
-                    st.stop_round = Some(self.round);
-                    st.stop_s = Some(seconds(self.now));
-                }
-            }
-            Note::Stale => st.stale += 1,
-            Note::Malformed => st.malformed += 1,
-        }
-    }
-
     /// Whether a robot still owes a motor command this slot.
     fn owes_motor(b: &Bot<P>) -> bool {
         b.body == Body::Running && !b.halted && b.motor.is_none()
@@ -746,73 +601,6 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         } else {
             self.now = end;
             self.push(end, Ev::SlotStart);
-        }
-    }
-
-    /// Whether a frozen robot is due to thaw later.
-    fn thaw_ahead(&self) -> bool {
-        self.cfg.faults.iter().any(|f| {
-            f.kind == FaultKind::Thaw
-                && self.bots.get(f.robot).is_some_and(|b| b.body == Body::Frozen)
-                && f.round >= self.round
-        }) || self.queue.events().any(|e| matches!(e, Ev::Fault(i) if self.cfg.faults[*i].kind == FaultKind::Thaw))
-    }
-
-    fn finish(mut self) -> RunResult {
-        let world = self.world;
-        let ended = self.ended.unwrap_or("max_rounds");
-        self.stats.ended_by = ended.to_string();
-        let dead: Vec<VertexId> = (0..self.bots.len())
-            .filter(|&k| self.bots[k].body != Body::Running)
-            .map(|k| self.referee.position(k))
-            .collect();
-        let complete = match self.cfg.situation {
-            Situation::One => self.stats.stop_round.is_some() && self.referee.found().count() == world.targets.len(),
-            Situation::Two if matches!(ended, "stop" | "cut_off") => {
-                let live: Vec<VertexId> = (0..self.bots.len())
-                    .filter(|&k| self.bots[k].body == Body::Running)
-                    .map(|k| self.referee.position(k))
-                    .collect();
-                let va = if dead.is_empty() {
-                    world.reachable_from(&self.starts)
-                } else {
-                    world.reachable_avoiding(&live, &dead)
-                };
-                (0..world.grid.len()).all(|v| !va[v] || self.referee.visited().get(v))
-            }
-            Situation::Two => false,
-        };
-        // Robots that waited on a failed robot and kept searching long
-        // enough to declare it, but never did.
-        let grace = world.params.suspect_rounds + 1;
-        for &(i, w, round) in &self.waiters {
-            let rec = &self.stats.failures[i];
-            // Searching at the end of every round up to `round + grace`.
-            let (from, to) = (round + 1, round + grace);
-            let kept_on = self.round > to && !self.bots[w as usize].idle.iter().any(|&(a, b)| a <= to && b >= from);
-            if kept_on && !rec.declared_by.contains(&w) && rec.thawed_s.is_none() && !rec.unaware.contains(&w) {
-                self.stats.failures[i].unaware.push(w);
-            }
-        }
-        let coverage = self.cfg.measure_coverage.then(|| world.detected_fraction_of(self.referee.visited()));
-        let search_time_s = self.stats.stop_s.unwrap_or_else(|| self.round_end_times.last().copied().unwrap_or(0.0));
-        RunResult {
-            algorithm: self.cfg.policy,
-            robots: self.bots.len(),
-            seed: self.cfg.seed,
-            situation: self.cfg.situation.number(),
-            rounds: self.round,
-            search_time_s,
-            targets_found: self.referee.found().count(),
-            targets_total: world.targets.len(),
-            collisions: self.collisions,
-            coverage,
-            complete,
-            robot_rounds: self.robot_rounds,
-            trajectories: self.trajectories,
-            round_end_times_s: self.round_end_times,
-            round_collisions: self.round_collisions,
-            protocol: self.stats,
         }
     }
 }

@@ -1,0 +1,68 @@
+//! The end of a run: whether the search completed, which waiters never
+//! declared the failed robot they waited on, and the [`RunResult`].
+
+use super::{Body, Kernel};
+use crate::grid::VertexId;
+use crate::outcome::RunResult;
+use crate::params::Situation;
+use crate::sim::Framed;
+
+impl<'w, P: Clone + Framed> Kernel<'w, P> {
+    pub(super) fn finish(mut self) -> RunResult {
+        let world = self.world;
+        let ended = self.ended.unwrap_or("max_rounds");
+        self.stats.ended_by = ended.to_string();
+        let dead: Vec<VertexId> = (0..self.bots.len())
+            .filter(|&k| self.bots[k].body != Body::Running)
+            .map(|k| self.referee.position(k))
+            .collect();
+        let complete = match self.cfg.situation {
+            Situation::One => self.stats.stop_round.is_some() && self.referee.found().count() == world.targets.len(),
+            Situation::Two if matches!(ended, "stop" | "cut_off") => {
+                let live: Vec<VertexId> = (0..self.bots.len())
+                    .filter(|&k| self.bots[k].body == Body::Running)
+                    .map(|k| self.referee.position(k))
+                    .collect();
+                let va = if dead.is_empty() {
+                    world.reachable_from(&self.starts)
+                } else {
+                    world.reachable_avoiding(&live, &dead)
+                };
+                (0..world.grid.len()).all(|v| !va[v] || self.referee.visited().get(v))
+            }
+            Situation::Two => false,
+        };
+        // Robots that waited on a failed robot and kept searching long
+        // enough to declare it, but never did.
+        let grace = world.params.suspect_rounds + 1;
+        for &(i, w, round) in &self.waiters {
+            let rec = &self.stats.failures[i];
+            // Searching at the end of every round up to `round + grace`.
+            let (from, to) = (round + 1, round + grace);
+            let kept_on = self.round > to && !self.bots[w as usize].idle.iter().any(|&(a, b)| a <= to && b >= from);
+            if kept_on && !rec.declared_by.contains(&w) && rec.thawed_s.is_none() && !rec.unaware.contains(&w) {
+                self.stats.failures[i].unaware.push(w);
+            }
+        }
+        let coverage = self.cfg.measure_coverage.then(|| world.detected_fraction_of(self.referee.visited()));
+        let search_time_s = self.stats.stop_s.unwrap_or_else(|| self.round_end_times.last().copied().unwrap_or(0.0));
+        RunResult {
+            algorithm: self.cfg.policy,
+            robots: self.bots.len(),
+            seed: self.cfg.seed,
+            situation: self.cfg.situation.number(),
+            rounds: self.round,
+            search_time_s,
+            targets_found: self.referee.found().count(),
+            targets_total: world.targets.len(),
+            collisions: self.collisions,
+            coverage,
+            complete,
+            robot_rounds: self.robot_rounds,
+            trajectories: self.trajectories,
+            round_end_times_s: self.round_end_times,
+            round_collisions: self.round_collisions,
+            protocol: self.stats,
+        }
+    }
+}
