@@ -3,7 +3,7 @@
 //! would not have changed anything it did.
 
 use super::Peer;
-use crate::protocol::{KIND_ACK, KIND_COMMIT, KIND_FLOOD};
+use crate::protocol::{FLOOD_OTHER, KIND_ACK, KIND_COMMIT, KIND_FLOOD};
 use crate::robot::Robot;
 use crate::sim::Listen;
 
@@ -31,7 +31,8 @@ impl Peer<'_> {
                 except[KIND_COMMIT as usize] |= Listen::bit(h.id);
             }
         }
-        let flooded = (0..63).filter(|&t| self.flooded.get(t)).fold(0, |m, t| m | 1 << t);
+        // Targets below 63 are their own tag bits: the bitset's first word.
+        let flooded = self.flooded.words().first().copied().unwrap_or(0) & !FLOOD_OTHER;
         tags[KIND_FLOOD as usize] = !flooded;
         Listen { on: true, round: self.round, hold: 1 << KIND_ACK | 1 << KIND_COMMIT | 1 << KIND_FLOOD, except, tags }
     }
