@@ -97,22 +97,28 @@ impl Bitset {
     }
 
     pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
-        self.words.iter().enumerate().flat_map(|(k, &w)| {
-            let mut w = w;
-            std::iter::from_fn(move || {
-                if w == 0 {
-                    return None;
-                }
-                let b = w.trailing_zeros() as usize;
-                w &= w - 1;
-                Some(k * 64 + b)
-            })
-        })
+        ones(&self.words)
     }
 
     pub fn copy_from(&mut self, other: &Bitset) {
         self.words.copy_from_slice(&other.words);
     }
+}
+
+/// The indices of the set bits of `words`, bit `k % 64` of word `k / 64`,
+/// in increasing order.
+pub fn ones(words: &[u64]) -> impl Iterator<Item = usize> + '_ {
+    words.iter().enumerate().flat_map(|(k, &w)| {
+        let mut w = w;
+        std::iter::from_fn(move || {
+            if w == 0 {
+                return None;
+            }
+            let b = w.trailing_zeros() as usize;
+            w &= w - 1;
+            Some(k * 64 + b)
+        })
+    })
 }
 
 #[cfg(test)]

@@ -58,16 +58,7 @@ impl Tile {
 
     /// Offsets in the tile of the vertices it holds masks for.
     fn masked(&self) -> impl Iterator<Item = usize> + '_ {
-        (0..BITS).flat_map(move |w| {
-            let mut x = self.0[MASKED + w];
-            std::iter::from_fn(move || {
-                (x != 0).then(|| {
-                    let b = x.trailing_zeros() as usize;
-                    x &= x - 1;
-                    w * 64 + b
-                })
-            })
-        })
+        crate::bitset::ones(&self.0[MASKED..MASKED + BITS])
     }
 
     /// Whether `other` holds something this tile lacks, and whether this
@@ -390,9 +381,7 @@ impl Tiles {
         if past(visited) || past(known) {
             return None;
         }
-        let n = vertices.div_ceil(TILE);
-        let mut t =
-            Tiles { vertices, tiles: vec![empty(); n], masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)) };
+        let mut t = Tiles::new(vertices);
         for (v, &b) in open.iter().enumerate() {
             if b != 0 {
                 t.set_mask(v, b);
