@@ -22,7 +22,7 @@ use crate::panels::{self, Panel, Series};
 use crate::report::{self, Block, Claim, Report, Section, Table};
 use crate::seeds::run_seed;
 use crate::staging::Staging;
-use crate::sweep::{Job, ProtocolOptions};
+use crate::sweep::{self, Job, ProtocolOptions};
 use crate::tally::{self, ProtoRun, ProtoStats};
 use crate::{check, contract, output};
 
@@ -216,14 +216,8 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
     }
     let (runs, wall_time_s) = opts.protocol.execute(&scenario, &jobs(opts, robots, runs_per))?;
 
-    let rows: Vec<FailureRow> = opts
-        .killed
-        .iter()
-        .map(|&k| {
-            let mine: Vec<ProtoRun> = runs.iter().filter(|r| r.0 == k).map(|r| r.2.clone()).collect();
-            FailureRow { killed: k, stats: ProtoStats::of(&mine) }
-        })
-        .collect();
+    let rows: Vec<FailureRow> =
+        opts.killed.iter().map(|&k| FailureRow { killed: k, stats: sweep::stats_at(&runs, &k) }).collect();
     let dir = stage.path().to_path_buf();
     let page = Page { dir: &dir, opts, scenario: &scenario, robots, runs_per, wall_time_s, runs: &runs, rows: &rows };
     // The files go in whole or not at all; if they cannot, the table is

@@ -22,7 +22,7 @@ use crate::report::{self, text_table, Block, Report, Section, Table};
 // The seed of a run is the sweep's, the same for every loss and retries.
 use crate::seeds::run_seed;
 use crate::staging::Staging;
-use crate::sweep::{Job, ProtocolOptions};
+use crate::sweep::{self, Job, ProtocolOptions};
 use crate::tally::{self, ProtoRun, ProtoStats};
 use crate::{check, contract, output};
 
@@ -263,13 +263,8 @@ pub fn run(opts: &RadioOptions) -> Result<(Vec<RadioRow>, String)> {
         }
     }
     let (runs, wall_time_s) = opts.protocol.execute(&scenario, &jobs(opts, runs_per))?;
-    let rows: Vec<RadioRow> = points(opts)
-        .into_iter()
-        .map(|p| {
-            let mine: Vec<ProtoRun> = runs.iter().filter(|r| r.0 == p).map(|r| r.2.clone()).collect();
-            RadioRow { point: p, stats: ProtoStats::of(&mine) }
-        })
-        .collect();
+    let rows: Vec<RadioRow> =
+        points(opts).into_iter().map(|p| RadioRow { point: p, stats: sweep::stats_at(&runs, &p) }).collect();
     let dir = stage.path().to_path_buf();
     let page = Page { dir: &dir, opts, scenario: &scenario, runs_per, wall_time_s, runs: &runs, rows: &rows };
     // The files go in whole or not at all; if they cannot, the table is

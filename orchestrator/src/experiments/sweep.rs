@@ -21,7 +21,7 @@ use crate::error::{Error, Result};
 use crate::experiment::progress_bar;
 use crate::faults::{FaultPlan, RunBase};
 use crate::run;
-use crate::tally::ProtoRun;
+use crate::tally::{ProtoRun, ProtoStats};
 
 /// Which engine runs an experiment's runs.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -109,6 +109,13 @@ impl ProtocolOptions {
         let wall_time_s = started.elapsed().as_secs_f64();
         Ok((planned.iter().zip(results).map(|((k, r, _), p)| (*k, *r, p)).collect(), wall_time_s))
     }
+}
+
+/// The statistics of the runs at `point`, of runs as
+/// [`ProtocolOptions::execute`] returns them.
+pub fn stats_at<K: PartialEq>(runs: &[(K, u32, ProtoRun)], point: &K) -> ProtoStats {
+    let mine: Vec<ProtoRun> = runs.iter().filter(|r| r.0 == *point).map(|r| r.2.clone()).collect();
+    ProtoStats::of(&mine)
 }
 
 /// What every run of an experiment shares.
