@@ -30,6 +30,7 @@
 //! Testing hook: with `GRIDSWARM_AGENT_HANG=R@K` in its environment, robot
 //! R stops itself (SIGSTOP) on the readings of slot K, before answering:
 //! a live process that has gone silent, which no fault schedule makes.
+//! A comma-separated list (`2@2,5@9`) stops several robots, each once.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -222,12 +223,14 @@ impl Agent<'_> {
     }
 }
 
-/// `GRIDSWARM_AGENT_HANG=R@K`: the slot at which robot R stops itself.
+/// `GRIDSWARM_AGENT_HANG=R@K[,R@K...]`: the slot at which robot R stops itself.
 fn hang_at(robot: usize) -> Option<u32> {
     let v = std::env::var("GRIDSWARM_AGENT_HANG").ok()?;
-    let (r, k) = v.split_once('@')?;
-    (r.trim().parse::<usize>().ok()? == robot).then_some(())?;
-    k.trim().parse().ok()
+    v.split(',').find_map(|one| {
+        let (r, k) = one.split_once('@')?;
+        (r.trim().parse::<usize>().ok()? == robot).then_some(())?;
+        k.trim().parse().ok()
+    })
 }
 
 fn read_setup(path: &PathBuf) -> Result<RobotSetup, String> {

@@ -3,10 +3,13 @@
 //! connects to it over TCP. The run must be the in-process run byte for
 //! byte, as over iceoryx2, also when a robot's process is killed (the
 //! world learns it from the robot's liveliness token), and leave nothing
-//! behind.
+//! behind. A robot silent past its lease is dead for good, also when its
+//! process comes back.
 
 use std::fs;
 use std::path::Path;
+use std::process::Stdio;
+use std::time::Duration;
 
 use gridswarm_e2e::*;
 use serde_json::Value;
@@ -56,6 +59,60 @@ fn a_robot_killed_over_zenoh_is_dead_to_the_world_as_in_process() {
     assert_eq!(v["collisions"], 0);
     let declared = v["failures_detected"].as_array().unwrap();
     assert!(!declared.is_empty(), "the robots declare the dead one: {v}");
+}
+
+/// The agent of robot `r` among `pid`'s children, once it has stopped itself.
+fn stopped_agent(pid: u32, r: usize) -> u32 {
+    let setup = format!("robot-{r}.json");
+    let mut found = 0;
+    let stopped_itself = wait_until(Duration::from_secs(60), || {
+        found = children(pid)
+            .into_iter()
+            .find(|&p| arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with(&setup)) && stopped(p))
+            .unwrap_or(0);
+        found != 0
+    });
+    assert!(stopped_itself, "robot {r} did not stop itself");
+    found
+}
+
+#[test]
+fn a_robot_silent_past_its_lease_stays_dead_when_it_comes_back() {
+    let _s = serial();
+    let dir = scratch("zenoh-lease");
+    // Robot 2 stops itself in slot 2: the world waits for its answer until
+    // its lease (2 s) runs out and its token vanishes. Robot 5 stops in
+    // slot 9, so the world waits again; meanwhile robot 2's process goes on,
+    // and its session comes back to a world that buried it.
+    let child = gridswarm()
+        .args(["run", "--json", "--transport", "zenoh", "--robots", "13", "--seed", "7"])
+        .args(["--out", dir.to_str().unwrap()])
+        .env("GRIDSWARM_AGENT_HANG", "2@2,5@9")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pid = child.id();
+    let two = stopped_agent(pid, 2);
+    stopped_agent(pid, 5);
+    signal(two, libc::SIGCONT);
+    assert!(wait_until(Duration::from_secs(5), || !stopped(two)), "robot 2's process did not go on");
+    let out = child.wait_with_output().unwrap();
+    let v = finished(&out, &["run --transport zenoh, robots 2 and 5 hung"]);
+    assert_no_leftovers(v["ipc_prefix"].as_str().unwrap());
+    assert_eq!(v["died"], serde_json::json!([2, 5]), "{v}");
+    assert_eq!(v["complete"], true, "{v}");
+    assert_eq!(v["collisions"], 0, "{v}");
+    // Dead for physics from slot 2 on: its body never moves again.
+    let traj = fs::read_to_string(dir.join("trajectories.jsonl")).unwrap();
+    let at: Vec<Value> = traj
+        .lines()
+        .map(|l| serde_json::from_str::<Value>(l).unwrap())
+        .filter(|p| p["robot"] == 2 && p["round"].as_u64().unwrap() >= 2)
+        .map(|p| p["vertex"].clone())
+        .collect();
+    assert!(at.len() > 7, "robot 2 is in every later round: {}", at.len());
+    assert!(at.iter().all(|v| *v == at[0]), "robot 2 moved after it was found dead: {at:?}");
 }
 
 #[test]
