@@ -4,6 +4,8 @@
 //! union, so merging is commutative and idempotent: the order in which maps
 //! arrive can never change a decision.
 
+use std::borrow::Cow;
+
 use serde::{Deserialize, Serialize};
 
 use crate::bitset::Bitset;
@@ -53,11 +55,13 @@ pub struct Map {
 /// without one call per vertex).
 #[derive(Serialize, Deserialize)]
 #[serde(rename = "Map")]
-struct Flat<T, F, A> {
+struct Flat<'a, T, F, A> {
     visited: Bitset,
     known: Bitset,
-    #[serde(with = "byte_string")]
-    open: Vec<u8>,
+    /// Borrowed from the frame when the format allows (postcard does): a
+    /// robot process decodes a dozen maps a slot, and need not copy them.
+    #[serde(borrow, with = "byte_string")]
+    open: Cow<'a, [u8]>,
     targets: T,
     failed: F,
     alive: A,
@@ -88,7 +92,11 @@ impl Serialize for Map {
         Flat {
             visited: Bitset::from_words(self.cells.words(false).collect()),
             known: Bitset::from_words(self.cells.words(true).collect()),
-            open: self.cells.open_bytes().collect(),
+            open: {
+                let mut open = Vec::new();
+                self.cells.open_bytes_into(&mut open);
+                Cow::Owned(open)
+            },
             targets: &self.targets,
             failed: &self.failed,
             alive: &self.alive,
@@ -272,8 +280,11 @@ impl Map {
     }
 }
 
-/// Serde for a `Vec<u8>` as one byte string (`serialize_bytes`).
+/// Serde for bytes as one byte string (`serialize_bytes`), borrowed from
+/// the input where the format can lend them.
 mod byte_string {
+    use std::borrow::Cow;
+
     use serde::de::{Deserializer, SeqAccess, Visitor};
     use serde::Serializer;
 
@@ -281,34 +292,38 @@ mod byte_string {
         s.serialize_bytes(v)
     }
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<u8>, D::Error> {
-        d.deserialize_byte_buf(Bytes)
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Cow<'de, [u8]>, D::Error> {
+        d.deserialize_bytes(Bytes)
     }
 
     struct Bytes;
 
     impl<'de> Visitor<'de> for Bytes {
-        type Value = Vec<u8>;
+        type Value = Cow<'de, [u8]>;
 
         fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
             f.write_str("a byte string")
         }
 
-        fn visit_bytes<E>(self, v: &[u8]) -> Result<Vec<u8>, E> {
-            Ok(v.to_vec())
+        fn visit_borrowed_bytes<E>(self, v: &'de [u8]) -> Result<Self::Value, E> {
+            Ok(Cow::Borrowed(v))
         }
 
-        fn visit_byte_buf<E>(self, v: Vec<u8>) -> Result<Vec<u8>, E> {
-            Ok(v)
+        fn visit_bytes<E>(self, v: &[u8]) -> Result<Self::Value, E> {
+            Ok(Cow::Owned(v.to_vec()))
+        }
+
+        fn visit_byte_buf<E>(self, v: Vec<u8>) -> Result<Self::Value, E> {
+            Ok(Cow::Owned(v))
         }
 
         // Formats without byte strings (JSON) give a sequence.
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<u8>, A::Error> {
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
             let mut v = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 20));
             while let Some(b) = seq.next_element()? {
                 v.push(b);
             }
-            Ok(v)
+            Ok(Cow::Owned(v))
         }
     }
 }

@@ -361,9 +361,30 @@ impl Tiles {
         self.tiles.iter().flat_map(move |t| t.0[part..part + BITS].iter().copied()).take(self.vertices.div_ceil(64))
     }
 
-    /// The edge masks, one byte per vertex.
-    pub fn open_bytes(&self) -> impl Iterator<Item = u8> + '_ {
-        (0..self.vertices).map(|v| self.open(v))
+    /// The edge masks, one byte per vertex, appended to `out`: 64 vertices
+    /// at a time, a word of masked bits saying whether they are all zeros,
+    /// all the table's bytes, or some of each (a robot process encodes its
+    /// map this way every slot).
+    pub fn open_bytes_into(&self, out: &mut Vec<u8>) {
+        out.reserve(self.vertices);
+        for (i, tile) in self.tiles.iter().enumerate() {
+            for w in 0..BITS {
+                let first = i * TILE + w * 64;
+                if first >= self.vertices {
+                    return;
+                }
+                let n = (self.vertices - first).min(64);
+                let masked = tile.0[MASKED + w];
+                let table = &self.masks[first..first + n];
+                if masked == 0 {
+                    out.resize(out.len() + n, 0);
+                } else if masked == u64::MAX {
+                    out.extend(table.iter().map(Cell::get));
+                } else {
+                    out.extend(table.iter().enumerate().map(|(k, c)| if masked >> k & 1 == 1 { c.get() } else { 0 }));
+                }
+            }
+        }
     }
 
     /// Tiles from flat bitsets and masks, reading the thread's shared
@@ -382,25 +403,36 @@ impl Tiles {
             return None;
         }
         let mut t = Tiles::new(vertices);
-        for (v, &b) in open.iter().enumerate() {
-            if b != 0 {
-                t.set_mask(v, b);
-            }
-        }
-        for (k, slot) in t.tiles.iter_mut().enumerate() {
+        for k in 0..t.tiles.len() {
             let mut tile = Tile::EMPTY;
             for w in 0..BITS {
                 tile.0[VISITED + w] = visited.get(k * BITS + w).copied().unwrap_or(0);
                 tile.0[KNOWN + w] = known.get(k * BITS + w).copied().unwrap_or(0);
-            }
-            for (i, &b) in open.iter().skip(k * TILE).take(TILE).enumerate() {
-                tile.set_bit(MASKED, i, b != 0);
+                let first = k * TILE + w * 64;
+                let chunk = open.get(first..(first + 64).min(vertices)).unwrap_or(&[]);
+                tile.0[MASKED + w] = t.take_masks(first, chunk);
             }
             if tile != Tile::EMPTY {
-                *slot = Rc::new(tile);
+                t.tiles[k] = Rc::new(tile);
             }
         }
         Some(t)
+    }
+
+    /// Makes the table hold the (at most 64) bytes `chunk` of vertices
+    /// `first..`, and returns the word of masked bits they give. Nearly
+    /// always the table holds them already (they are physics): the loops
+    /// that find out have no branch, so the compiler vectorizes them.
+    fn take_masks(&mut self, first: usize, chunk: &[u8]) -> u64 {
+        let masked = chunk.iter().enumerate().fold(0u64, |m, (k, &b)| m | u64::from(b != 0) << k);
+        let table = &self.masks[first..first + chunk.len()];
+        let differs = chunk.iter().zip(table).fold(false, |d, (&b, c)| d | ((b != 0) & (c.get() != b)));
+        if differs {
+            for (k, &b) in chunk.iter().enumerate().filter(|(_, &b)| b != 0) {
+                self.set_mask(first + k, b);
+            }
+        }
+        masked
     }
 
     /// Whether a bit is set past the last vertex (a map made in memory).
