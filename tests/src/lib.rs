@@ -130,6 +130,33 @@ pub fn stalled_run() -> (std::process::Child, u32, Vec<u32>, String) {
     (child, world, agents, prefix)
 }
 
+/// `gridswarm ARGS`, its output piped, with `GRIDSWARM_AGENT_HANG=hang`:
+/// the robots it names stop their own processes at those slots.
+pub fn spawn_hanging(args: &[&str], hang: &str) -> std::process::Child {
+    gridswarm()
+        .args(args)
+        .env("GRIDSWARM_AGENT_HANG", hang)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// The agent of robot `r` among `pid`'s children, once it has stopped itself.
+pub fn stopped_agent(pid: u32, r: usize) -> u32 {
+    let setup = format!("robot-{r}.json");
+    let mut found = 0;
+    let stopped_itself = wait_until(Duration::from_secs(60), || {
+        found = children(pid)
+            .into_iter()
+            .find(|&p| arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with(&setup)) && stopped(p))
+            .unwrap_or(0);
+        found != 0
+    });
+    assert!(stopped_itself, "robot {r} did not stop itself");
+    found
+}
+
 /// Every process in `pids` ends within 5 s, and nothing of the run is left.
 pub fn assert_all_gone(pids: &[u32], prefix: &str) {
     assert!(wait_until(Duration::from_secs(5), || pids.iter().all(|&p| !alive(p))), "a process of the run outlived it");

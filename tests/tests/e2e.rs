@@ -7,7 +7,6 @@
 use std::fs;
 use std::path::Path;
 use std::process::Stdio;
-use std::time::Duration;
 
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
@@ -296,25 +295,8 @@ fn a_world_server_crash_ends_the_run_with_one_line() {
 #[test]
 fn an_agent_that_dies_unscheduled_is_found_dead_and_the_run_goes_on() {
     let _s = serial();
-    let child = gridswarm()
-        .args(["run", "--json", "--robots", "13", "--seed", "7"])
-        .env("GRIDSWARM_AGENT_HANG", "2@2")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let pid = child.id();
-    let mut hung = 0;
-    assert!(
-        wait_until(Duration::from_secs(20), || {
-            hung = children(pid)
-                .into_iter()
-                .find(|&p| arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with("robot-2.json")) && stopped(p))
-                .unwrap_or(0);
-            hung != 0
-        }),
-        "robot 2 did not stop itself"
-    );
+    let child = spawn_hanging(&["run", "--json", "--robots", "13", "--seed", "7"], "2@2");
+    let hung = stopped_agent(child.id(), 2);
     // The world waits for its answer; its process vanishes instead.
     signal(hung, libc::SIGKILL);
     let out = child.wait_with_output().unwrap();

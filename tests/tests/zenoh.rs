@@ -8,7 +8,6 @@
 
 use std::fs;
 use std::path::Path;
-use std::process::Stdio;
 use std::time::Duration;
 
 use gridswarm_e2e::*;
@@ -61,21 +60,6 @@ fn a_robot_killed_over_zenoh_is_dead_to_the_world_as_in_process() {
     assert!(!declared.is_empty(), "the robots declare the dead one: {v}");
 }
 
-/// The agent of robot `r` among `pid`'s children, once it has stopped itself.
-fn stopped_agent(pid: u32, r: usize) -> u32 {
-    let setup = format!("robot-{r}.json");
-    let mut found = 0;
-    let stopped_itself = wait_until(Duration::from_secs(60), || {
-        found = children(pid)
-            .into_iter()
-            .find(|&p| arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with(&setup)) && stopped(p))
-            .unwrap_or(0);
-        found != 0
-    });
-    assert!(stopped_itself, "robot {r} did not stop itself");
-    found
-}
-
 #[test]
 fn a_robot_silent_past_its_lease_stays_dead_when_it_comes_back() {
     let _s = serial();
@@ -84,14 +68,9 @@ fn a_robot_silent_past_its_lease_stays_dead_when_it_comes_back() {
     // its lease (2 s) runs out and its token vanishes. Robot 5 stops in
     // slot 9, so the world waits again; meanwhile robot 2's process goes on,
     // and its session comes back to a world that buried it.
-    let child = gridswarm()
-        .args(["run", "--json", "--transport", "zenoh", "--robots", "13", "--seed", "7"])
-        .args(["--out", dir.to_str().unwrap()])
-        .env("GRIDSWARM_AGENT_HANG", "2@2,5@9")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let args =
+        ["run", "--json", "--transport", "zenoh", "--robots", "13", "--seed", "7", "--out", dir.to_str().unwrap()];
+    let child = spawn_hanging(&args, "2@2,5@9");
     let pid = child.id();
     let two = stopped_agent(pid, 2);
     stopped_agent(pid, 5);
