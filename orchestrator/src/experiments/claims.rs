@@ -182,6 +182,15 @@ pub fn evaluate(cells: &[CellStats], runs: &[&[RunRecord]]) -> Vec<ClaimResult> 
     vec![ordering(&t, &present), ru_slower(&t, &present), sharp_then_slow(&t, &present)]
 }
 
+/// Why a claim about `needed` cannot be evaluated on a sweep of `present`:
+/// the algorithms it lacks (`any`: it needs only one of them).
+fn lacking(needed: &[Policy], present: &[Policy], any: bool) -> Option<String> {
+    let missing: Vec<&str> = needed.iter().filter(|p| !present.contains(p)).map(|p| p.name()).collect();
+    let short = if any { missing.len() == needed.len() } else { !missing.is_empty() };
+    let all = if any && missing.len() > 1 { "every one of " } else { "" };
+    short.then(|| format!("  the sweep lacks {all}{}", missing.join(", ")))
+}
+
 fn not_evaluated(id: &'static str, statement: &'static str, criterion: &'static str, why: String) -> ClaimResult {
     ClaimResult {
         id,
@@ -201,9 +210,8 @@ fn ordering(t: &Table, present: &[Policy]) -> ClaimResult {
                              over the runs both completed; a difference inside the interval is a tie) and at least one \
                              pair is in order beyond it; the claim holds when the ordering holds at more than half of \
                              the robot counts where not every pair tied";
-    let missing: Vec<&str> = ORDER.iter().filter(|p| !present.contains(p)).map(|p| p.name()).collect();
-    if !missing.is_empty() {
-        return not_evaluated(ID, STATEMENT, CRITERION, format!("  the sweep lacks {}", missing.join(", ")));
+    if let Some(why) = lacking(&ORDER, present, false) {
+        return not_evaluated(ID, STATEMENT, CRITERION, why);
     }
     let counts = &t.counts;
     let full_counts: Vec<usize> = counts.iter().copied().filter(|&r| ORDER.iter().all(|&p| t.has(p, r))).collect();
@@ -300,10 +308,8 @@ fn ru_slower(t: &Table, present: &[Policy]) -> ClaimResult {
     const CRITERION: &str = "holds when RU is nowhere faster than LFP beyond the 95% interval of the difference (paired \
                              run by run) at the robot counts from 9 to 13 in the sweep, and slower beyond it at least at \
                              one; a difference inside the interval is a tie";
-    let missing: Vec<&str> =
-        [Policy::Ru, Policy::Lfp].iter().filter(|p| !present.contains(p)).map(|p| p.name()).collect();
-    if !missing.is_empty() {
-        return not_evaluated(ID, STATEMENT, CRITERION, format!("  the sweep lacks {}", missing.join(", ")));
+    if let Some(why) = lacking(&[Policy::Ru, Policy::Lfp], present, false) {
+        return not_evaluated(ID, STATEMENT, CRITERION, why);
     }
     let counts: Vec<usize> =
         (RU_SLOWER_FROM..=RU_SLOWER_TO).filter(|&r| t.has(Policy::Ru, r) && t.has(Policy::Lfp, r)).collect();
@@ -371,10 +377,13 @@ fn sharp_then_slow(t: &Table, present: &[Policy]) -> ClaimResult {
                              added robot from lo to the last count <= lo + (hi-lo)/3 must be positive and at least 3 \
                              times the drop from the first count >= hi - (hi-lo)/3 to hi, which must itself be a fall \
                              (a rise is not a slow fall); the claim holds when every evaluated algorithm passes";
+    // Fig. 7's curves only: the baselines from outside the paper make no such claim.
+    if let Some(why) = lacking(&ORDER, present, true) {
+        return not_evaluated(ID, STATEMENT, CRITERION, why);
+    }
     let mut lines = Vec::new();
     let mut per_alg = Vec::new();
     let (mut evaluated, mut passed) = (0, 0);
-    // Fig. 7's curves only: the baselines from outside the paper make no such claim.
     for &p in present.iter().filter(|p| ORDER.contains(p)) {
         let counts = t.counts_of(p);
         let (Some(&lo), Some(&hi)) = (counts.first(), counts.last()) else {
@@ -624,6 +633,12 @@ mod tests {
         let text = render(&c);
         assert!(text.contains("the sweep lacks sequential, repulsive"), "{text}");
         assert!(text.contains("not evaluated"), "{text}");
+        // Only baselines from outside the paper: (c) says why too.
+        let v: Vec<CellStats> = (1..=13).map(|r| cell(Policy::Frontier, r, 100.0 / r as f64)).collect();
+        let c = evaluate(&v, &[]);
+        let why = &by_id(&c, "c").lines;
+        assert_eq!(by_id(&c, "c").verdict, Verdict::NotEvaluated);
+        assert_eq!(why, &["  the sweep lacks every one of lfp, ru, sequential, repulsive"], "{}", render(&c));
     }
 
     #[test]
