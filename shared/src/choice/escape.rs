@@ -108,7 +108,8 @@ impl Escape {
         if self.sources.is_empty() {
             return false;
         }
-        self.others.distances_to(view.grid, view.map, t, view.blocked);
+        // Only sources nearer to `t` than this robot matter: all have their distance.
+        self.others.distances_to(view.grid, view.map, t, view.position, view.blocked);
         let Some(mine) = self.others.dist(view.position) else {
             return false;
         };

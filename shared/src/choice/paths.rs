@@ -172,11 +172,15 @@ impl Paths {
         self.run(grid, map, g, |_, _| false);
     }
 
-    /// Distances from every reachable vertex to `to` (edges are
-    /// symmetric), read with [`Paths::dist`] until the next search.
-    pub fn distances_to(&mut self, grid: &Grid, map: &Map, to: VertexId, blocked: &[VertexId]) {
+    /// Distances to `to` (edges are symmetric) of every vertex no farther
+    /// from it than `from` is, read with [`Paths::dist`] until the next
+    /// search: the search stops once it reaches `from`, when every vertex at
+    /// `from`'s distance or less has its own (a farther one may read `None`).
+    /// Robots ask about the way to a vertex near them, and a search of the
+    /// whole map for each was most of what `escape` and `frontier` cost.
+    pub fn distances_to(&mut self, grid: &Grid, map: &Map, to: VertexId, from: VertexId, blocked: &[VertexId]) {
         let g = self.start(grid.len(), &[to], blocked);
-        self.run(grid, map, g, |_, _| false);
+        self.run(grid, map, g, |_, v| v == from);
     }
 
     /// The distance the last search found for `v`; `None` if unreached or blocked.
@@ -191,7 +195,7 @@ impl Paths {
     /// to `to` (avoiding `blocked`), in slot order.
     pub fn first_steps(&mut self, view: &super::View<'_>, to: VertexId, blocked: &[VertexId]) -> super::Slots {
         let mut out = super::Slots::default();
-        self.distances_to(view.grid, view.map, to, blocked);
+        self.distances_to(view.grid, view.map, to, view.position, blocked);
         let Some(here) = self.dist(view.position) else {
             return out;
         };
