@@ -137,8 +137,15 @@ pub fn sweep_stale(root: &Path) -> Vec<String> {
 mod tests {
     use super::*;
 
+    /// Held by the tests that sweep: a sweep removes every dead run's root
+    /// folder in `/dev/shm`, so one test's sweep could remove the "dead"
+    /// root another is still making (seen once: its `nodes` folder could
+    /// not be made, its parent gone).
+    static SWEEPING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
     #[test]
     fn cleanup_removes_only_its_run() {
+        let _sweeping = SWEEPING.lock().unwrap_or_else(|e| e.into_inner());
         let dir = std::env::temp_dir().join(format!("gs-ipc-test-{}", std::process::id()));
         let nodes = dir.join("nodes").join("1234");
         fs::create_dir_all(&nodes).unwrap();
@@ -163,6 +170,7 @@ mod tests {
     /// with none of its files left; a live run's stays.
     #[test]
     fn the_sweep_removes_a_dead_runs_empty_root_folder() {
+        let _sweeping = SWEEPING.lock().unwrap_or_else(|e| e.into_inner());
         let dead = format!("{PREFIX_HEAD}{}x{:06x}_", u32::MAX - 7, 0x5ee);
         let live = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0x5ef);
         for p in [&dead, &live] {
