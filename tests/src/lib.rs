@@ -99,35 +99,16 @@ pub fn assert_no_leftovers(prefix: &str) {
 /// there, unscheduled: the world waits for its answer) and returns it with
 /// its world pid, agent pids and prefix.
 pub fn stalled_run() -> (std::process::Child, u32, Vec<u32>, String) {
-    let child = gridswarm()
-        .args(["run", "--robots", "13", "--seed", "7"])
-        .env("GRIDSWARM_AGENT_HANG", "2@2")
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = spawn_hanging(&["run", "--robots", "13", "--seed", "7"], "2@2");
     let pid = child.id();
-    let mut world = 0;
-    let mut agents = Vec::new();
-    let mut prefix = String::new();
-    let found = wait_until(Duration::from_secs(20), || {
-        let kids = children(pid);
-        let (w, a): (Vec<u32>, Vec<u32>) =
-            kids.iter().partition(|&&k| cmdline(k).first().is_some_and(|c| c.ends_with("world-server")));
-        if w.len() == 1 && a.len() == 13 {
-            world = w[0];
-            agents = a;
-            prefix = arg_of(&cmdline(world), "--prefix").unwrap_or_default();
-            agents
-                .iter()
-                .any(|&p| arg_of(&cmdline(p), "--setup").is_some_and(|s| s.ends_with("robot-2.json")) && stopped(p))
-        } else {
-            false
-        }
-    });
-    assert!(found, "the run did not reach its stall");
+    // Robot 2 has read slot 2: the world and every agent are up by then.
+    stopped_agent(pid, 2);
+    let (world, agents): (Vec<u32>, Vec<u32>) =
+        children(pid).into_iter().partition(|&k| cmdline(k).first().is_some_and(|c| c.ends_with("world-server")));
+    assert_eq!((world.len(), agents.len()), (1, 13), "the run's processes");
+    let prefix = arg_of(&cmdline(world[0]), "--prefix").unwrap_or_default();
     assert!(!prefix.is_empty());
-    (child, world, agents, prefix)
+    (child, world[0], agents, prefix)
 }
 
 /// `gridswarm ARGS`, its output piped, with `GRIDSWARM_AGENT_HANG=hang`:
