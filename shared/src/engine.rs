@@ -10,7 +10,6 @@ use std::sync::OnceLock;
 use crate::grid::VertexId;
 use crate::lfp::{self, LfpParams};
 use crate::map::tiles::SharedMasks;
-use crate::map::Map;
 use crate::outcome::{RunConfig, RunResult};
 use crate::peer::Peer;
 use crate::policy::Policy;
@@ -73,7 +72,7 @@ fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
     let _masks = SharedMasks::new(world.grid.len());
     let peers =
         (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
-    let mut local = Local { peers, out: Output::default(), maps: Vec::new(), frames: Vec::new() };
+    let mut local = Local { peers, out: Output::default(), frames: Vec::new() };
     Kernel::new(world, starts, cfg).run(&mut local)
 }
 
@@ -81,9 +80,6 @@ fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
 struct Local<'g> {
     peers: Vec<Peer<'g>>,
     out: Output<Frame>,
-    /// Maps of `Map` frames every receiver has read, for the peers to copy
-    /// their next maps into: a map a robot a slot, without allocating.
-    maps: Vec<Map>,
     /// Frames every receiver has read, their allocations reused for the
     /// next frames sent (about three a robot a slot).
     frames: Vec<Rc<Frame>>,
@@ -96,11 +92,6 @@ impl Robots for Local<'_> {
         outputs.resize_with(calls.len(), || None);
         for (call, slot) in calls.iter().zip(outputs.iter_mut()) {
             let peer = &mut self.peers[call.robot];
-            if call.tick.is_some() && peer.wants_map() {
-                if let Some(m) = self.maps.pop() {
-                    peer.offer_map(m);
-                }
-            }
             let frames = call.frames.iter().map(|d| (d.from, &*d.payload));
             peer.wake(call.now, call.tick.as_ref(), frames, &mut self.out);
             let (o, into) = (&mut self.out, slot.get_or_insert_with(Output::default));
@@ -127,9 +118,11 @@ impl Robots for Local<'_> {
             // The last reader of a frame gives it back, and a map frame its map.
             let mut rc = d.payload;
             let Some(frame) = Rc::get_mut(&mut rc) else { continue };
-            if let Frame::Map { map, .. } = frame {
-                if self.maps.len() < self.peers.len() {
-                    self.maps.push(std::mem::take(map));
+            if let Frame::Map { map, from, round, .. } = frame {
+                // To its sender, whose next copy need only take what changed
+                // since: a map a robot a slot, without allocating.
+                if let Some(peer) = self.peers.get_mut(*from as usize) {
+                    peer.give_back_map(std::mem::take(map), *round);
                 }
             }
             if self.frames.len() < keep {

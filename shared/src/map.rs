@@ -31,7 +31,7 @@ pub struct Failure {
 
 /// A robot's map. The per-vertex parts live in shared [`tiles`]; on the
 /// wire a map is, as it always was, the flat fields of [`Flat`].
-#[derive(Debug, Default, PartialEq, Eq)]
+#[derive(Debug, Default)]
 pub struct Map {
     /// Per vertex: visited (some robot stood on it), known (accessible:
     /// visited, or the open end of a sensed edge), and the edge mask (bit
@@ -48,7 +48,25 @@ pub struct Map {
     /// heard alive again (a rejoin), sorted by robot. A failure counts only
     /// while its round is later than this.
     pub alive: Vec<(RobotId, u32)>,
+    /// The round of a map this map's robot sent, from which this map
+    /// differs only in the tiles marked changed: for a robot's own map its
+    /// last copy sent, for that copy the copy before ([`Map::send_copy`],
+    /// [`Map::merge_changes`]). Not content, and not on the wire: a map
+    /// decoded has none, and is merged whole.
+    pub base: Option<u32>,
 }
+
+/// Content only: where a map came from is not part of it.
+impl PartialEq for Map {
+    fn eq(&self, other: &Self) -> bool {
+        self.cells == other.cells
+            && self.targets == other.targets
+            && self.failed == other.failed
+            && self.alive == other.alive
+    }
+}
+
+impl Eq for Map {}
 
 /// A map as it travels: visited and known as bitsets, the edge masks as
 /// one byte string (in postcard the same bytes as a sequence of `u8`,
@@ -74,6 +92,7 @@ impl Clone for Map {
             targets: self.targets.clone(),
             failed: self.failed.clone(),
             alive: self.alive.clone(),
+            base: self.base,
         }
     }
 
@@ -84,6 +103,7 @@ impl Clone for Map {
         self.targets.clone_from(&source.targets);
         self.failed.clone_from(&source.failed);
         self.alive.clone_from(&source.alive);
+        self.base = source.base;
     }
 }
 
@@ -111,13 +131,19 @@ impl<'de> Deserialize<'de> for Map {
         let cells = Tiles::from_flat(f.visited.words(), f.known.words(), &f.open).ok_or_else(|| {
             serde::de::Error::custom("map bitsets sized for another grid than its edge masks, or set past the end")
         })?;
-        Ok(Map { cells, targets: f.targets, failed: f.failed, alive: f.alive })
+        Ok(Map { cells, targets: f.targets, failed: f.failed, alive: f.alive, base: None })
     }
 }
 
 impl Map {
     pub fn new(vertices: usize, targets: usize) -> Self {
-        Map { cells: Tiles::new(vertices), targets: Bitset::new(targets), failed: Vec::new(), alive: Vec::new() }
+        Map {
+            cells: Tiles::new(vertices),
+            targets: Bitset::new(targets),
+            failed: Vec::new(),
+            alive: Vec::new(),
+            base: None,
+        }
     }
 
     /// Vertices of the grid it describes.
@@ -158,6 +184,32 @@ impl Map {
         &self.cells
     }
 
+    /// A copy of this map to send in round `round`: it carries the round
+    /// of the copy sent before and the tiles changed since. `into` is an
+    /// earlier copy to copy into, if the caller has one, with the round it
+    /// was sent in: if that was the last, it need only take the tiles
+    /// changed since.
+    pub fn send_copy(&mut self, round: u32, into: Option<(Map, u32)>) -> Map {
+        let m = match into {
+            Some((mut m, sent)) if Some(sent) == self.base => {
+                m.cells.copy_changes_from(&self.cells);
+                m.targets.clone_from(&self.targets);
+                m.failed.clone_from(&self.failed);
+                m.alive.clone_from(&self.alive);
+                m.base = self.base;
+                m
+            }
+            Some((mut m, _)) => {
+                m.clone_from(self);
+                m
+            }
+            None => self.clone(),
+        };
+        self.base = Some(round);
+        self.cells.forget_changes();
+        m
+    }
+
     /// Records what a robot standing on `v` senses: the open edge slots.
     pub fn record_sensing(&mut self, grid: &Grid, v: VertexId, open: u8) {
         self.set_visited(v, true);
@@ -173,6 +225,19 @@ impl Map {
     /// `self ∪= other`: sets by union, failures and rejoins by their latest round.
     pub fn merge(&mut self, other: &Map) {
         self.cells.merge(&other.cells);
+        self.merge_lists(other);
+    }
+
+    /// [`Map::merge`] for a map whose sender's map of round
+    /// `other.base` this one has merged already (and has lost nothing of
+    /// since): only the tiles changed since then are looked at.
+    pub fn merge_changes(&mut self, other: &Map) {
+        self.cells.merge_changes(&other.cells);
+        self.merge_lists(other);
+    }
+
+    /// Targets, failures and rejoins of a merge: short lists, merged whole.
+    fn merge_lists(&mut self, other: &Map) {
         self.targets.union_growing(&other.targets);
         for f in &other.failed {
             self.add_failed(f.robot, f.at, f.round);
@@ -383,13 +448,19 @@ mod tests {
     /// Sets on three vertices of a map: a visited and known flag and an edge mask each.
     fn marked(n: usize, marks: &[(usize, u8)]) -> Map {
         let mut m = Map::new(n, 0);
+        mark(&mut m, marks);
+        m
+    }
+
+    /// [`marked`]'s marks on a map that may hold some already (a flag may go off).
+    fn mark(m: &mut Map, marks: &[(usize, u8)]) {
+        let n = m.vertices();
         for &(v, bits) in marks {
             let v = (v % n) as VertexId;
             m.set_visited(v, bits & 1 == 1);
             m.set_known(v, bits & 2 == 2);
             m.or_open(v, bits);
         }
-        m
     }
 
     /// Merges `b` into a copy of `a`: the result is the flat union, shares
@@ -454,6 +525,59 @@ mod tests {
                 into.clone_from(&ab);
                 proptest::prop_assert_eq!(&into, &ab);
                 proptest::prop_assert_eq!(into.cells().unshared(), 0);
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// A receiver that merged a robot's last copy and merges only the
+        /// tiles changed since in its next holds what merging all of it
+        /// gives, whatever the robot did between: sensing, merging, flags
+        /// going off (dropped claims), with one table of masks or not.
+        #[test]
+        fn merging_the_changes_is_merging_the_whole_copy(
+            n in 1usize..3000,
+            shared in proptest::prelude::any::<bool>(),
+            first in proptest::collection::vec((0usize..3000, proptest::prelude::any::<u8>()), 0..60),
+            later in proptest::collection::vec((0usize..3000, proptest::prelude::any::<u8>()), 0..60),
+            heard in proptest::collection::vec((0usize..3000, proptest::prelude::any::<u8>()), 0..60),
+            own in proptest::collection::vec((0usize..3000, proptest::prelude::any::<u8>()), 0..60),
+            reuse in proptest::prelude::any::<bool>(),
+            again in proptest::collection::vec((0usize..60, proptest::prelude::any::<u8>()), 0..20),
+        ) {
+            let _one = shared.then(|| tiles::SharedMasks::new(n));
+            let mut robot = marked(n, &first);
+            let old = robot.send_copy(3, None);
+            proptest::prop_assert_eq!((old.base, robot.base, robot.cells().changes()), (None, Some(3), 0));
+            let mut receiver = marked(n, &own);
+            receiver.merge(&old);
+            receiver.merge(&marked(n, &heard));
+            mark(&mut robot, &later);
+            // More edges sensed open where it held a mask already: only the byte changes.
+            for &(k, bits) in &again {
+                if let Some(&(v, _)) = first.get(k) {
+                    robot.or_open((v % n) as VertexId, bits);
+                }
+            }
+            robot.merge(&marked(n, &heard[..heard.len() / 2]));
+            // The copy goes into the last copy, or into an older one (another map).
+            let spare = if reuse { (old.clone(), 3) } else { (marked(n, &own), 2) };
+            let new = robot.send_copy(4, Some(spare));
+            proptest::prop_assert_eq!(&new, &robot);
+            proptest::prop_assert_eq!(new.base, Some(3));
+            let (mut whole, mut changes) = (receiver.clone(), receiver.clone());
+            whole.merge(&new);
+            changes.merge_changes(&new);
+            proptest::prop_assert_eq!(&changes, &whole);
+            // The tiles not marked are the old copy's, content for content.
+            for v in 0..n as VertexId {
+                let tile = v as usize / tiles::TILE;
+                if !new.cells().changed(tile) {
+                    proptest::prop_assert_eq!(
+                        (new.visited(v), new.known(v), new.open(v)),
+                        (old.visited(v), old.known(v), old.open(v))
+                    );
+                }
             }
         }
     }

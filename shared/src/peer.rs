@@ -154,8 +154,9 @@ pub struct Peer<'g> {
     silent: Vec<(VertexId, u32)>,
     /// A robot it expected to hear this slot stayed silent.
     missed_any: bool,
-    /// A map buffer to copy its map into for the next `Map` frame.
-    spare: Option<Map>,
+    /// Its map of an earlier `Map` frame, with the frame's round, to copy
+    /// its map into for the next.
+    spare: Option<(Map, u32)>,
 }
 
 impl<'g> Peer<'g> {
@@ -183,16 +184,12 @@ impl<'g> Peer<'g> {
         }
     }
 
-    /// Whether it has no map buffer for its next `Map` frame.
-    pub fn wants_map(&self) -> bool {
-        self.spare.is_none()
-    }
-
-    /// A map buffer (contents irrelevant) for its next `Map` frame, so that
-    /// sending its map every slot need not allocate: the in-process engine
-    /// recycles the maps of frames every receiver has read.
-    pub fn offer_map(&mut self, map: Map) {
-        self.spare = Some(map);
+    /// The map of its own `Map` frame of `round`, back from every receiver
+    /// (unchanged), so that sending its map every slot need not allocate
+    /// (the in-process engine gives them back) and its next copy need only
+    /// take what changed since the last.
+    pub fn give_back_map(&mut self, map: Map, round: u32) {
+        self.spare = Some((map, round));
     }
 
     pub fn id(&self) -> RobotId {
@@ -316,13 +313,7 @@ impl<'g> Peer<'g> {
         // same with the maps already heard; its own map reaches the others
         // late, and those that hear it wait for its answer like any other's.
         let window_end = tick.start + self.cfg.timing.exchange;
-        let map = match self.spare.take() {
-            Some(mut m) => {
-                m.clone_from(robot.map());
-                m
-            }
-            None => robot.map().clone(),
-        };
+        let map = robot.map_mut().send_copy(tick.round, self.spare.take());
         self.send(
             out,
             Frame::Map { round: tick.round, from: me, at: tick.at, halted, stop: self.stop_known, map },

@@ -129,6 +129,14 @@ pub struct Robot<'g> {
     /// else did ([`Robot::receive_choice`]).
     /// With whether the claim made the vertex known too.
     claims: Vec<(VertexId, bool)>,
+    /// Per robot whose map this one merged (sorted by robot), the round of
+    /// the latest: this map holds all of that map, so the sender's next
+    /// map needs merging only where it changed since ([`Map::merge_changes`]).
+    /// Forgotten when the map may have lost some of it (below).
+    merged: Vec<(RobotId, u32)>,
+    /// A map was merged while claims were held: dropping them may take
+    /// away what that map said too, and then `merged` no longer holds.
+    merged_over_claims: bool,
     /// Scratch for the rule's view, kept so choosing never allocates.
     views: Vec<NeighbourView>,
     blocked_now: Vec<VertexId>,
@@ -168,6 +176,8 @@ impl<'g> Robot<'g> {
             bodies: Vec::new(),
             rule,
             claims: Vec::new(),
+            merged: Vec::new(),
+            merged_over_claims: false,
             paths: Paths::default(),
             views: Vec::with_capacity(16),
             blocked_now: Vec::new(),
@@ -226,13 +236,18 @@ impl<'g> Robot<'g> {
     /// 1 ending the search with targets unfound), and a crashed chooser's
     /// claim would keep the others from ever going there.
     fn drop_claims(&mut self) {
+        let mut dropped = false;
         for (v, new) in self.claims.drain(..) {
             if self.map.open(v) & SENSED == 0 {
+                dropped = true;
                 self.map.set_visited(v, false);
                 if new {
                     self.map.set_known(v, false);
                 }
             }
+        }
+        if dropped && std::mem::take(&mut self.merged_over_claims) {
+            self.merged.clear();
         }
     }
 
@@ -295,7 +310,18 @@ impl<'g> Robot<'g> {
             // is blocked for good, like a body.
             self.mark_body(at);
         }
-        self.map.merge(map);
+        let k = self.merged.binary_search_by_key(&from, |m| m.0);
+        let holds_base = map.base.is_some_and(|b| k.is_ok_and(|k| self.merged[k].1 == b));
+        if holds_base {
+            self.map.merge_changes(map);
+        } else {
+            self.map.merge(map);
+        }
+        match k {
+            Ok(k) => self.merged[k].1 = self.round,
+            Err(k) => self.merged.insert(k, (from, self.round)),
+        }
+        self.merged_over_claims |= !self.claims.is_empty();
         if self.map.is_failed(self.cfg.id) {
             // Declared failed while it was frozen or unheard: it knows
             // better, and its map now says so to everyone it meets.

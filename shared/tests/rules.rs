@@ -339,6 +339,29 @@ fn escape_takes_another_shortest_path_when_the_first_step_is_blocked() {
     }
 }
 
+/// A claim dropped can take away what a map merged after it said (the
+/// vertex known): the next map of that sender is then merged whole, not
+/// by its changes since, so the robot learns it again as before.
+#[test]
+fn a_map_merged_over_a_claim_is_merged_whole_next_round() {
+    let w = world();
+    let g = &w.grid;
+    let (v, j_at, j_to, t_at) = (at(g, 0, 0), at(g, 2, 0), at(g, 3, 0), at(g, 4, 0));
+    let mut t = Map::new(g.len(), 0);
+    t.record_sensing(g, t_at, ALL_OPEN);
+    let mut r = robot(g, Policy::Sequential, 1, 0, v);
+    r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+    r.receive_choice(1, j_at, j_to);
+    // Late, after the claim: robot 2's map, which knows j_to.
+    r.receive_map(2, t_at, &t.send_copy(0, None), false);
+    r.sense(1, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
+    assert!(!r.map().known(j_to), "the dropped claim took it away");
+    let next = t.send_copy(1, None);
+    assert_eq!((next.base, next.cells().changes()), (Some(0), 0), "nothing changed since");
+    r.receive_map(2, t_at, &next, false);
+    assert!(r.map().known(j_to), "merged whole, robot 2's map gives it back");
+}
+
 #[test]
 fn a_heard_choice_marks_its_vertex_visited_for_the_round() {
     let w = world();

@@ -157,17 +157,29 @@ pub struct Tiles {
     vertices: usize,
     tiles: Vec<Rc<Tile>>,
     masks: Rc<Masks>,
+    /// A bit a tile: its content may have changed since the last
+    /// [`Tiles::forget_changes`] (a superset: never a change unmarked). A
+    /// robot's sent map carries the changes since its previous one, so a
+    /// receiver that merged that one merges only these
+    /// ([`Tiles::merge_changes`]).
+    changed: Vec<u64>,
 }
 
 impl Clone for Tiles {
     fn clone(&self) -> Self {
-        Tiles { vertices: self.vertices, tiles: self.tiles.clone(), masks: Rc::clone(&self.masks) }
+        Tiles {
+            vertices: self.vertices,
+            tiles: self.tiles.clone(),
+            masks: Rc::clone(&self.masks),
+            changed: self.changed.clone(),
+        }
     }
 
     /// Reuses this map's list of tiles: a robot copies its map into a spare every slot.
     fn clone_from(&mut self, source: &Self) {
         self.vertices = source.vertices;
         self.masks = Rc::clone(&source.masks);
+        self.changed.clone_from(&source.changed);
         if self.tiles.len() != source.tiles.len() {
             self.tiles.clone_from(&source.tiles);
             return;
@@ -216,7 +228,12 @@ impl Tiles {
     /// Nothing known; every tile is the empty tile all maps share.
     pub fn new(vertices: usize) -> Self {
         let n = vertices.div_ceil(TILE);
-        Tiles { vertices, tiles: vec![empty(); n], masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)) }
+        Tiles {
+            vertices,
+            tiles: vec![empty(); n],
+            masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)),
+            changed: vec![0; n.div_ceil(64)],
+        }
     }
 
     pub fn vertices(&self) -> usize {
@@ -225,7 +242,41 @@ impl Tiles {
 
     /// The tile of `v`, this map's own from now on (copied if shared).
     fn at_mut(&mut self, v: usize) -> (&mut Tile, usize) {
+        self.mark(v / TILE);
         (Rc::make_mut(&mut self.tiles[v / TILE]), v % TILE)
+    }
+
+    fn mark(&mut self, tile: usize) {
+        self.changed[tile / 64] |= 1 << (tile % 64);
+    }
+
+    /// From now on, [`Tiles::changes`] counts from here.
+    pub fn forget_changes(&mut self) {
+        self.changed.fill(0);
+    }
+
+    /// Tiles whose content may have changed since [`Tiles::forget_changes`].
+    pub fn changes(&self) -> usize {
+        self.changed.iter().map(|w| w.count_ones() as usize).sum()
+    }
+
+    /// Makes this map, a copy `source` was equal to when it last forgot its
+    /// changes, equal to `source` again: only the tiles changed since are
+    /// copied (a robot's last copy sent, back from the receivers).
+    pub fn copy_changes_from(&mut self, source: &Tiles) {
+        if self.tiles.len() != source.tiles.len() || self.changed.len() != source.changed.len() {
+            return self.clone_from(source);
+        }
+        self.masks = Rc::clone(&source.masks);
+        for i in crate::bitset::ones(&source.changed) {
+            self.tiles[i].clone_from(&source.tiles[i]);
+        }
+        self.changed.clone_from(&source.changed);
+    }
+
+    /// Whether tile `tile` is marked changed.
+    pub fn changed(&self, tile: usize) -> bool {
+        self.changed.get(tile / 64).is_some_and(|w| w >> (tile % 64) & 1 == 1)
     }
 
     pub fn visited(&self, v: usize) -> bool {
@@ -268,6 +319,7 @@ impl Tiles {
         if had | bits == had {
             return;
         }
+        self.mark(v / TILE);
         self.set_mask(v, had | bits);
         if had == 0 {
             let (t, k) = self.at_mut(v);
@@ -293,17 +345,34 @@ impl Tiles {
     /// of `other` that holds all of this one's replaces it (shared from
     /// then on). Maps of different sizes merge over the common tiles.
     pub fn merge(&mut self, other: &Tiles) {
-        let empty = empty();
         let n = self.tiles.len().min(other.tiles.len());
         // The other map's list of tiles is cold too.
         for t in other.tiles.iter().step_by(64 / size_of::<Rc<Tile>>()) {
             prefetch_addr(std::ptr::from_ref(t).cast());
         }
+        self.merge_tiles(other, 0..n);
+    }
+
+    /// [`Tiles::merge`] of the tiles `other` marks changed, for a receiver
+    /// that holds everything else of `other` already: it merged the map
+    /// `other`'s changes count from, and maps only grow. Same content as a
+    /// whole merge, looking at a few tiles instead of all.
+    pub fn merge_changes(&mut self, other: &Tiles) {
+        if self.tiles.len() != other.tiles.len() || other.changed.len() != self.changed.len() {
+            return self.merge(other);
+        }
+        self.merge_tiles(other, crate::bitset::ones(&other.changed));
+    }
+
+    /// Merges the tiles `at` (ascending, all below both lengths) of `other`.
+    fn merge_tiles(&mut self, other: &Tiles, at: impl Iterator<Item = usize>) {
+        let empty = empty();
+        let mut at = at.peekable();
         let mut todo = [0; BATCH];
-        let mut i = 0;
-        while i < n {
+        while at.peek().is_some() {
             let mut k = 0;
-            while i < n && k < BATCH {
+            while k < BATCH {
+                let Some(i) = at.next() else { break };
                 let theirs = &other.tiles[i];
                 if !Rc::ptr_eq(&self.tiles[i], theirs) && !Rc::ptr_eq(theirs, &empty) {
                     prefetch(&self.tiles[i]);
@@ -311,7 +380,6 @@ impl Tiles {
                     todo[k] = i;
                     k += 1;
                 }
-                i += 1;
             }
             self.merge_batch(other, &todo[..k]);
         }
@@ -338,6 +406,9 @@ impl Tiles {
             *d = self.tiles[i].differences(&other.tiles[i]);
         }
         for (&(more, less), &i) in diff.iter().zip(todo) {
+            if more {
+                self.mark(i);
+            }
             let (mine, theirs) = (&mut self.tiles[i], &other.tiles[i]);
             // Equal tiles too: shared from now on, the next merge skips them.
             if !less {

@@ -27,9 +27,9 @@
 //! ([`crate::engine`]) or processes (`world-server`).
 
 pub mod kernel;
-#[cfg(test)]
-mod listen_tests;
 pub mod medium;
+#[cfg(test)]
+mod same_search_tests;
 pub mod schedule;
 pub mod stats;
 
