@@ -355,8 +355,9 @@ impl Tiles {
 
     /// [`Tiles::merge`] of the tiles `other` marks changed, for a receiver
     /// that holds everything else of `other` already: it merged the map
-    /// `other`'s changes count from, and maps only grow. Same content as a
-    /// whole merge, looking at a few tiles instead of all.
+    /// `other`'s changes count from and has lost nothing of it since (the
+    /// caller knows, [`crate::robot::Robot`]). Same content as a whole
+    /// merge, looking at a few tiles instead of all.
     pub fn merge_changes(&mut self, other: &Tiles) {
         if self.tiles.len() != other.tiles.len() || other.changed.len() != self.changed.len() {
             return self.merge(other);
