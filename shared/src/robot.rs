@@ -132,7 +132,10 @@ pub struct Robot<'g> {
     /// Per robot whose map this one merged (sorted by robot), the round of
     /// the latest: this map holds all of that map, so the sender's next
     /// map needs merging only where it changed since ([`Map::merge_changes`]).
-    /// Forgotten when the map may have lost some of it (below).
+    /// Forgotten when the map may have lost some of it (below), and after
+    /// a round unheard: a sender's next copy counts from its last, so only
+    /// last round's are of use (and the list stays as short as the
+    /// neighbourhood in a long run).
     merged: Vec<(RobotId, u32)>,
     /// A map was merged while claims were held: dropping them may take
     /// away what that map said too, and then `merged` no longer holds.
@@ -260,6 +263,7 @@ impl<'g> Robot<'g> {
         self.open_now = s.open;
         self.occupied_now = s.occupied;
         self.drop_claims();
+        self.merged.retain(|m| m.1 + 1 >= round);
         self.map.record_sensing(self.grid, self.pos, s.open);
         self.learn_targets(s.targets);
         self.nbrs.clear();
