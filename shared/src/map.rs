@@ -100,10 +100,7 @@ impl Clone for Map {
     /// map into a spare every slot.
     fn clone_from(&mut self, source: &Self) {
         self.cells.clone_from(&source.cells);
-        self.targets.clone_from(&source.targets);
-        self.failed.clone_from(&source.failed);
-        self.alive.clone_from(&source.alive);
-        self.base = source.base;
+        self.clone_rest_from(source);
     }
 }
 
@@ -193,10 +190,7 @@ impl Map {
         let m = match into {
             Some((mut m, sent)) if Some(sent) == self.base => {
                 m.cells.copy_changes_from(&self.cells);
-                m.targets.clone_from(&self.targets);
-                m.failed.clone_from(&self.failed);
-                m.alive.clone_from(&self.alive);
-                m.base = self.base;
+                m.clone_rest_from(self);
                 m
             }
             Some((mut m, _)) => {
@@ -208,6 +202,14 @@ impl Map {
         self.base = Some(round);
         self.cells.forget_changes();
         m
+    }
+
+    /// Everything but the tiles, copied from `source` into this map's allocations.
+    fn clone_rest_from(&mut self, source: &Map) {
+        self.targets.clone_from(&source.targets);
+        self.failed.clone_from(&source.failed);
+        self.alive.clone_from(&source.alive);
+        self.base = source.base;
     }
 
     /// Records what a robot standing on `v` senses: the open edge slots.

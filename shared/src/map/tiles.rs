@@ -28,6 +28,8 @@
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
+use crate::bitset::Bitset;
+
 /// Vertices per tile.
 pub const TILE: usize = 256;
 /// Words of one tile's bitset.
@@ -162,7 +164,7 @@ pub struct Tiles {
     /// robot's sent map carries the changes since its previous one, so a
     /// receiver that merged that one merges only these
     /// ([`Tiles::merge_changes`]).
-    changed: Vec<u64>,
+    changed: Bitset,
 }
 
 impl Clone for Tiles {
@@ -232,7 +234,7 @@ impl Tiles {
             vertices,
             tiles: vec![empty(); n],
             masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)),
-            changed: vec![0; n.div_ceil(64)],
+            changed: Bitset::new(n),
         }
     }
 
@@ -242,33 +244,29 @@ impl Tiles {
 
     /// The tile of `v`, this map's own from now on (copied if shared).
     fn at_mut(&mut self, v: usize) -> (&mut Tile, usize) {
-        self.mark(v / TILE);
+        self.changed.set(v / TILE);
         (Rc::make_mut(&mut self.tiles[v / TILE]), v % TILE)
-    }
-
-    fn mark(&mut self, tile: usize) {
-        self.changed[tile / 64] |= 1 << (tile % 64);
     }
 
     /// From now on, [`Tiles::changes`] counts from here.
     pub fn forget_changes(&mut self) {
-        self.changed.fill(0);
+        self.changed.clear_all();
     }
 
     /// Tiles whose content may have changed since [`Tiles::forget_changes`].
     pub fn changes(&self) -> usize {
-        self.changed.iter().map(|w| w.count_ones() as usize).sum()
+        self.changed.count()
     }
 
     /// Makes this map, a copy `source` was equal to when it last forgot its
     /// changes, equal to `source` again: only the tiles changed since are
     /// copied (a robot's last copy sent, back from the receivers).
     pub fn copy_changes_from(&mut self, source: &Tiles) {
-        if self.tiles.len() != source.tiles.len() || self.changed.len() != source.changed.len() {
+        if self.tiles.len() != source.tiles.len() {
             return self.clone_from(source);
         }
         self.masks = Rc::clone(&source.masks);
-        for i in crate::bitset::ones(&source.changed) {
+        for i in source.changed.iter() {
             self.tiles[i].clone_from(&source.tiles[i]);
         }
         self.changed.clone_from(&source.changed);
@@ -276,7 +274,7 @@ impl Tiles {
 
     /// Whether tile `tile` is marked changed.
     pub fn changed(&self, tile: usize) -> bool {
-        self.changed.get(tile / 64).is_some_and(|w| w >> (tile % 64) & 1 == 1)
+        self.changed.get(tile)
     }
 
     pub fn visited(&self, v: usize) -> bool {
@@ -319,7 +317,7 @@ impl Tiles {
         if had | bits == had {
             return;
         }
-        self.mark(v / TILE);
+        self.changed.set(v / TILE);
         self.set_mask(v, had | bits);
         if had == 0 {
             let (t, k) = self.at_mut(v);
@@ -359,10 +357,10 @@ impl Tiles {
     /// caller knows, [`crate::robot::Robot`]). Same content as a whole
     /// merge, looking at a few tiles instead of all.
     pub fn merge_changes(&mut self, other: &Tiles) {
-        if self.tiles.len() != other.tiles.len() || other.changed.len() != self.changed.len() {
+        if self.tiles.len() != other.tiles.len() {
             return self.merge(other);
         }
-        self.merge_tiles(other, crate::bitset::ones(&other.changed));
+        self.merge_tiles(other, other.changed.iter());
     }
 
     /// Merges the tiles `at` (ascending, all below both lengths) of `other`.
@@ -408,7 +406,7 @@ impl Tiles {
         }
         for (&(more, less), &i) in diff.iter().zip(todo) {
             if more {
-                self.mark(i);
+                self.changed.set(i);
             }
             let (mine, theirs) = (&mut self.tiles[i], &other.tiles[i]);
             // Equal tiles too: shared from now on, the next merge skips them.
