@@ -42,7 +42,7 @@ use crate::map::{Map, RobotId};
 use crate::params::{Params, Situation};
 use crate::policy::Policy;
 use crate::protocol::Frame;
-use crate::robot::{Robot, RobotConfig, Sensing};
+use crate::robot::{Robot, RobotConfig, Sensing, Stop};
 use crate::sim::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
 
 mod filter;
@@ -154,6 +154,10 @@ pub struct Peer<'g> {
     silent: Vec<(VertexId, u32)>,
     /// A robot it expected to hear this slot stayed silent.
     missed_any: bool,
+    /// When it sensed this slot (its first wake-up of the slot).
+    sensed_at: Time,
+    /// It sensed after its exchange window ended: it stays this slot.
+    late: bool,
     /// Its map of an earlier `Map` frame, with the frame's round, to copy
     /// its map into for the next.
     spare: Option<(Map, u32)>,
@@ -180,6 +184,8 @@ impl<'g> Peer<'g> {
             refusals: Vec::new(),
             silent: Vec::new(),
             missed_any: false,
+            sensed_at: 0,
+            late: false,
             spare: None,
         }
     }
@@ -302,6 +308,7 @@ impl<'g> Peer<'g> {
         let consecutive = self.phase != Phase::Idle && tick.round == self.round + 1;
         self.expect(tick.at, consecutive);
         self.round = tick.round;
+        self.sensed_at = now;
         self.heard.clear();
         self.acks.clear();
         self.refusals.clear();
@@ -309,9 +316,9 @@ impl<'g> Peer<'g> {
         robot.sense(tick.round, &Sensing { open: tick.open, occupied: tick.occupied, targets: &tick.targets });
         let me = robot.id();
         let halted = self.phase == Phase::Halted;
-        // Woken after the exchange (frozen, or slow): it takes part all the
-        // same with the maps already heard; its own map reaches the others
-        // late, and those that hear it wait for its answer like any other's.
+        // Woken after the exchange (frozen, or slow): it still sends its map
+        // (those that hear it wait for its answer like any other's), and
+        // answers with a stay (`late`, set at the end of its exchange).
         let window_end = tick.start + self.cfg.timing.exchange;
         let map = robot.map_mut().send_copy(tick.round, self.spare.take());
         self.send(
@@ -493,8 +500,13 @@ impl<'g> Peer<'g> {
                 continue;
             }
             e.missed += 1;
-            if e.missed >= self.cfg.timing.suspect_rounds && !robot.map().is_failed(e.id) {
-                robot.declare_failed(e.id, e.at, round);
+            if e.missed >= self.cfg.timing.suspect_rounds {
+                // Its map may hold the failure already, declared by another
+                // robot (which wins a tie with the round this robot last
+                // heard it): it is noted as its own finding all the same.
+                if !robot.map().is_failed(e.id) {
+                    robot.declare_failed(e.id, e.at, round);
+                }
                 out.notes.push(Note::Declared { robot: e.id });
             }
         }
@@ -502,16 +514,22 @@ impl<'g> Peer<'g> {
         self.expected = expected;
         self.find_bodies();
         if self.stop_known {
-            self.halt(now, true, true, out);
+            self.halt(now, None, out);
             return;
         }
         let robot = self.robot.as_mut().expect("started");
         if let Some(stop) = robot.stop_rule() {
-            self.halt(now, stop.ends_search(), false, out);
+            self.halt(now, Some(stop), out);
             return;
         }
         self.phase = Phase::Choosing;
         self.deadline = self.window_end + self.cfg.timing.wait;
+        // It sensed after its exchange window, among searching neighbours:
+        // their maps came before it sensed, their choices may be out
+        // already, and they have written it off for the slot; it sits the
+        // slot out. A robot alone (or among halted ones) goes on: its
+        // lateness concerns nobody, and a robot slow for good must still search.
+        self.late = self.sensed_at > self.window_end && self.heard.iter().any(|h| !h.halted);
     }
 
     /// The sonar's occupied neighbours that no map of this slot accounts
@@ -543,7 +561,12 @@ impl<'g> Peer<'g> {
         self.silent = silent;
     }
 
-    fn halt(&mut self, now: Time, ends_search: bool, relayed: bool, out: &mut Output<Frame>) {
+    /// Stops searching for good: on its own rule `stop`, or (`None`) on a
+    /// stop it heard, which it relays.
+    fn halt(&mut self, now: Time, stop: Option<Stop>, out: &mut Output<Frame>) {
+        let ends_search = stop.is_none_or(Stop::ends_search);
+        let relayed = stop.is_none();
+        let exhausted = stop.is_some_and(|s| s.exhausted(self.cfg.robot.situation));
         let robot = self.robot.as_ref().expect("started");
         if let Some(c) = robot.choice() {
             if c != robot.position() {
@@ -552,7 +575,7 @@ impl<'g> Peer<'g> {
         }
         self.phase = Phase::Halted;
         out.motor = Some((Motor::Halt, now));
-        out.notes.push(Note::Stopped { ends_search, relayed });
+        out.notes.push(Note::Stopped { ends_search, relayed, exhausted });
         if ends_search {
             self.stop_known = true;
             if !self.stop_flooded {
@@ -564,7 +587,7 @@ impl<'g> Peer<'g> {
 
     fn progress(&mut self, now: Time, out: &mut Output<Frame>) {
         if self.stop_known {
-            self.halt(now, true, true, out);
+            self.halt(now, None, out);
             return;
         }
         let round = self.round;
@@ -572,14 +595,22 @@ impl<'g> Peer<'g> {
         let timing = self.cfg.timing;
         let robot = self.robot.as_mut().expect("started");
         if robot.choice().is_none() {
-            if now >= self.deadline && !robot.ready() {
+            if self.late || now >= self.deadline + timing.wait {
+                // Woken far past the time it asked for (slow, or thawed):
+                // those that waited on it chose without it long ago, and a
+                // choice now could not gather its acknowledgements within
+                // the slot. It stays, which is safe whatever the others do
+                // (nobody enters a vertex whose robot did not announce
+                // leaving), and tells them so.
+                robot.stay();
+            } else if now >= self.deadline && !robot.ready() {
                 let late: Vec<RobotId> = robot.waiting_for().collect();
                 for j in late {
                     robot.suspect(j);
                     out.notes.push(Note::TimedOut { robot: j });
                 }
             }
-            let Some(c) = robot.choose() else {
+            let Some(c) = robot.choice().or_else(|| robot.choose()) else {
                 return;
             };
             self.choice_ready = now + timing.choice;

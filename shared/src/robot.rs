@@ -87,6 +87,12 @@ impl Stop {
     pub fn ends_search(self) -> bool {
         self != Stop::CutOff
     }
+
+    /// Whether the robot ends the search knowing it incomplete: in
+    /// situation 1 nothing is left to visit, yet targets are unfound.
+    pub fn exhausted(self, situation: Situation) -> bool {
+        self == Stop::MapComplete && situation == Situation::One
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -140,6 +146,8 @@ pub struct Robot<'g> {
     /// A map was merged while claims were held: dropping them may take
     /// away what that map said too, and then `merged` no longer holds.
     merged_over_claims: bool,
+    /// Scratch for the claims the stop rule sets aside.
+    withdrawn: Vec<VertexId>,
     /// Scratch for the rule's view, kept so choosing never allocates.
     views: Vec<NeighbourView>,
     blocked_now: Vec<VertexId>,
@@ -181,6 +189,7 @@ impl<'g> Robot<'g> {
             claims: Vec::new(),
             merged: Vec::new(),
             merged_over_claims: false,
+            withdrawn: Vec::new(),
             paths: Paths::default(),
             views: Vec::with_capacity(16),
             blocked_now: Vec::new(),
@@ -346,8 +355,37 @@ impl<'g> Robot<'g> {
         }
     }
 
-    /// Steps 7 (rules 3/4), evaluated once the maps are exchanged.
+    /// Steps 7 (rules 3/4), evaluated once the maps are exchanged, on what
+    /// was sensed: this round's claims still unconfirmed count as unvisited.
+    /// A claim says only that a neighbour means to go there; a robot late
+    /// to its exchange (slow, thawed) hears its neighbours' choices before
+    /// its stop test, and with the claims counted it stopped the search on
+    /// vertices nobody had seen around (docs/paper.md, "choices update maps").
     pub fn stop_rule(&mut self) -> Option<Stop> {
+        let held = self.withdraw_claims();
+        let stop = self.stop_rule_sensed();
+        for &v in &held {
+            self.map.set_visited(v, true);
+        }
+        self.withdrawn = held;
+        stop
+    }
+
+    /// Marks unvisited again the claimed vertices nobody sensed yet (they
+    /// stay known: a claim shows there is something to visit), and returns them.
+    fn withdraw_claims(&mut self) -> Vec<VertexId> {
+        let mut held = std::mem::take(&mut self.withdrawn);
+        held.clear();
+        for &(v, _) in &self.claims {
+            if self.map.open(v) & SENSED == 0 && self.map.visited(v) {
+                self.map.set_visited(v, false);
+                held.push(v);
+            }
+        }
+        held
+    }
+
+    fn stop_rule_sensed(&mut self) -> Option<Stop> {
         if self.cfg.situation == Situation::One && self.map.targets.count() >= self.cfg.targets_total {
             return Some(Stop::AllTargets);
         }
@@ -536,6 +574,15 @@ impl<'g> Robot<'g> {
             }
         }
         Some(next)
+    }
+
+    /// Steps 4-5 skipped: the robot stays this round, whatever it heard.
+    /// Always safe: nobody moves onto a vertex whose robot has not
+    /// announced leaving it, and every move chosen treats a robot that has
+    /// not chosen as standing still.
+    pub fn stay(&mut self) {
+        self.next = Some(self.pos);
+        self.accounted.clear();
     }
 
     /// Step 5 proper: the policy's rule picks among `cands`; anything but

@@ -357,7 +357,11 @@ fn note() -> impl Strategy<Value = Note> {
         (0u16..13).prop_map(|robot| Note::Rejoined { robot }),
         (0u16..13).prop_map(|robot| Note::TimedOut { robot }),
         Just(Note::Unsure),
-        (any::<bool>(), any::<bool>()).prop_map(|(ends_search, relayed)| Note::Stopped { ends_search, relayed }),
+        (any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(ends_search, relayed, exhausted)| Note::Stopped {
+            ends_search,
+            relayed,
+            exhausted
+        }),
         Just(Note::Stale),
         Just(Note::Malformed),
     ]

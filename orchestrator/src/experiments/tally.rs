@@ -3,6 +3,7 @@
 //! through one reader), and the statistics of a group of such runs.
 
 use gridswarm::outcome::RunResult;
+use gridswarm::sim::ENDINGS;
 use serde::Serialize;
 use serde_json::Value;
 
@@ -112,12 +113,9 @@ pub struct ProtoStats {
     pub unaware: usize,
     pub mean_delay_rounds: Option<f64>,
     pub mean_delay_s: Option<f64>,
-    /// Runs per `ended_by` label: stop, cut_off, no_robots, max_rounds.
-    pub ended_by: [usize; 4],
+    /// Runs per `ended_by` label, in [`ENDINGS`]' order.
+    pub ended_by: [usize; ENDINGS.len()],
 }
-
-/// The `ended_by` labels in [`ProtoStats::ended_by`]'s order.
-pub const ENDINGS: [&str; 4] = ["stop", "cut_off", "no_robots", "max_rounds"];
 
 impl ProtoStats {
     pub fn of(runs: &[ProtoRun]) -> Self {
@@ -127,7 +125,7 @@ impl ProtoStats {
             |f: &dyn Fn(&ProtoRun) -> u64| mean(&runs.iter().map(|r| f(r) as f64).collect::<Vec<_>>()).unwrap_or(0.0);
         let std = sample_std(&times);
         let (collisions, moves) = runs.iter().fold((0, 0), |a, r| (a.0 + r.collisions, a.1 + r.moves));
-        let mut ended_by = [0; 4];
+        let mut ended_by = [0; ENDINGS.len()];
         for r in runs {
             if let Some(k) = ENDINGS.iter().position(|e| *e == r.ended_by) {
                 ended_by[k] += 1;
@@ -183,13 +181,14 @@ pub const CSV_COLUMNS: &str = "runs,completed_runs,completion_rate,mean_search_t
     ci95_search_time_s,mean_rounds,collisions,moves,collisions_per_million_moves,mean_transmissions,\
     mean_retransmissions,mean_lost,mean_timeouts,mean_unsure,mean_false_suspicions,mean_rejoins,\
     mean_forced_slots,failures_injected,failures_detected,unaware,mean_detection_delay_rounds,\
-    mean_detection_delay_s,ended_stop,ended_cut_off,ended_no_robots,ended_max_rounds";
+    mean_detection_delay_s,ended_stop,ended_exhausted,ended_false_stop,ended_cut_off,ended_no_robots,\
+    ended_max_rounds";
 
 /// The statistics as CSV cells, in [`CSV_COLUMNS`]' order.
 pub fn csv_cells(s: &ProtoStats) -> String {
     let n = crate::output::csv_num;
     format!(
-        "{},{},{:.6},{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{},{},{},{},{},{}",
+        "{},{},{:.6},{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{},{},{},{},{},{}",
         s.runs,
         s.completed_runs,
         s.completion_rate,
@@ -213,10 +212,7 @@ pub fn csv_cells(s: &ProtoStats) -> String {
         s.unaware,
         n(s.mean_delay_rounds),
         n(s.mean_delay_s),
-        s.ended_by[0],
-        s.ended_by[1],
-        s.ended_by[2],
-        s.ended_by[3]
+        s.ended_by.map(|n| n.to_string()).join(",")
     )
 }
 

@@ -10,6 +10,8 @@ use serde_json::{json, Value};
 pub fn ended_by_phrase(ended_by: &str) -> &'static str {
     match ended_by {
         "stop" => "a robot's stop ended the search",
+        "exhausted" => "a robot found nothing left to visit with targets unfound",
+        "false_stop" => "a robot's stop ended the search early (a protocol fault)",
         "cut_off" => "every live robot halted, cut off behind failed robots",
         "no_robots" => "no robot was left searching",
         "max_rounds" => "round limit reached",

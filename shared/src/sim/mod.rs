@@ -40,7 +40,7 @@ use crate::map::RobotId;
 
 pub use kernel::{Kernel, Settings};
 pub use medium::Radio;
-pub use stats::{FailureRecord, ProtocolStats};
+pub use stats::{FailureRecord, ProtocolStats, ENDINGS};
 
 /// Simulated time in microseconds.
 pub type Time = u64;
@@ -122,8 +122,10 @@ pub enum Note {
     /// It stayed for want of acknowledgements.
     Unsure,
     /// It stopped searching; `ends_search` when its stop ends the search
-    /// for everyone, `relayed` when it stopped on another robot's stop.
-    Stopped { ends_search: bool, relayed: bool },
+    /// for everyone, `relayed` when it stopped on another robot's stop,
+    /// `exhausted` when it ends the search knowing targets are unfound
+    /// (situation 1, nothing left to visit: rule (4) where rule (3) failed).
+    Stopped { ends_search: bool, relayed: bool, exhausted: bool },
     /// It dropped a frame of another round.
     Stale,
     /// It dropped a frame it could not decode or that lied about its sender.

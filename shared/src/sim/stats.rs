@@ -8,6 +8,14 @@ use serde::{Deserialize, Serialize};
 use crate::map::RobotId;
 
 /// One injected crash or freeze, and how the team found out.
+/// Every way a run can end, as `ended_by` says it. Only `stop` is a
+/// complete search: `exhausted` is a stop by a robot that knew targets were
+/// unfound (situation 1, nothing left to visit), `false_stop` a stop on an
+/// incomplete search (a fault of the protocol, which the simulation test
+/// looks for), `cut_off` every live robot halted behind failed ones,
+/// `no_robots` none left searching, `max_rounds` the round limit.
+pub const ENDINGS: [&str; 6] = ["stop", "exhausted", "false_stop", "cut_off", "no_robots", "max_rounds"];
+
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct FailureRecord {
     pub robot: RobotId,
@@ -73,7 +81,7 @@ pub struct ProtocolStats {
     /// Slots the clock had to close at their limit, robots without a motor
     /// command staying.
     pub forced_slots: u64,
-    /// How the run ended: `stop`, `cut_off`, `no_robots`, `max_rounds`.
+    /// How the run ended: one of [`ENDINGS`].
     pub ended_by: String,
     /// Round and simulated time of the first stop that ends the search.
     pub stop_round: Option<u32>,

@@ -11,7 +11,6 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
     pub(super) fn finish(mut self) -> RunResult {
         let world = self.world;
         let ended = self.ended.unwrap_or("max_rounds");
-        self.stats.ended_by = ended.to_string();
         let dead: Vec<VertexId> = (0..self.bots.len())
             .filter(|&k| self.bots[k].body != Body::Running)
             .map(|k| self.referee.position(k))
@@ -32,6 +31,15 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             }
             Situation::Two => false,
         };
+        // A stop ends the search as complete only when it is: one that
+        // knew targets unfound says so, and any other on an incomplete
+        // search is a false stop, a fault of the protocol.
+        self.stats.ended_by = match ended {
+            "stop" if self.stop_exhausted => "exhausted",
+            "stop" if !complete => "false_stop",
+            e => e,
+        }
+        .to_string();
         // Robots that waited on a failed robot and kept searching long
         // enough to declare it, but never did.
         let grace = world.params.suspect_rounds + 1;

@@ -99,6 +99,9 @@ pub struct Kernel<'w, P> {
     close_scheduled: bool,
     last_motor: Time,
     ended: Option<&'static str>,
+    /// The stop that ended the search came from a robot that knew targets
+    /// were left unfound ([`Note::Stopped`]'s `exhausted`).
+    stop_exhausted: bool,
     exchange: Time,
     hop: Time,
     slot_limit: Time,
@@ -165,6 +168,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             close_scheduled: false,
             last_motor: 0,
             ended: None,
+            stop_exhausted: false,
             exchange,
             hop: micros(p.t_hop),
             slot_limit,

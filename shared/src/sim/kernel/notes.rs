@@ -36,10 +36,11 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 }
             }
             Note::Unsure => st.unsure += 1,
-            Note::Stopped { ends_search, relayed } => {
+            Note::Stopped { ends_search, relayed, exhausted } => {
                 if ends_search && !relayed && st.stop_round.is_none() {
                     st.stop_round = Some(self.round);
                     st.stop_s = Some(seconds(self.now));
+                    self.stop_exhausted = exhausted;
                 }
             }
             Note::Stale => st.stale += 1,
