@@ -8,9 +8,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
-use gridswarm::engine;
-use gridswarm::scenario::Scenario;
-use gridswarm::vopr;
+use gridswarm::vopr::{self, Worlds};
 
 fn env(name: &str, default: u64) -> u64 {
     std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
@@ -18,9 +16,7 @@ fn env(name: &str, default: u64) -> u64 {
 
 fn main() {
     let (runs, reps) = (env("RUNS", 100_000), env("REPS", 3));
-    let sc = Scenario::builtin(vopr::SCENARIO).unwrap();
-    let world = sc.world();
-    let starts: Vec<_> = (0..=8).map(|n| sc.start_vertices(&world, n.max(1)).unwrap()).collect();
+    let worlds = Worlds::default();
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let mut walls = Vec::new();
     for rep in 0..reps {
@@ -35,7 +31,7 @@ fn main() {
                         return;
                     }
                     let case = vopr::case(rep + 1, i);
-                    let r = engine::run(&world, &starts[case.robots], &case.config);
+                    let r = worlds.run(&case);
                     robot_rounds.fetch_add(r.robot_rounds, Ordering::Relaxed);
                 });
             }

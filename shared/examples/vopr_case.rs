@@ -1,13 +1,14 @@
 //! Runs one case of the simulation test and prints its outcome:
 //! `GRIDSWARM_TRACE=1 cargo run --release -p gridswarm --example vopr_case -- SEED INDEX`.
-use gridswarm::{engine, scenario::Scenario, vopr};
+use gridswarm::{engine, vopr};
 fn main() {
     let a: Vec<u64> = std::env::args().skip(1).map(|s| s.parse().unwrap()).collect();
     let case = vopr::case(a[0], a[1]);
-    let sc = Scenario::builtin(vopr::SCENARIO).unwrap();
-    let world = sc.world();
-    let starts = sc.start_vertices(&world, case.robots).unwrap();
+    let worlds = vopr::Worlds::default();
+    let (w, starts) = worlds.of(&case);
+    let world = &w.1;
     println!("{}", case.command());
+    println!("{:?}", case.config);
     let mut cfg = case.config.clone();
     cfg.record_trajectories = true;
     let r = engine::run(&world, &starts, &cfg);
@@ -23,6 +24,12 @@ fn main() {
         .map(|c| format!("({},{})", c.i, c.j))
         .collect();
     println!("Va: {}", unvisited.join(" "));
-    println!("rounds {} ended {} collisions {} {:?}", r.rounds, r.protocol.ended_by, r.collisions, vopr::check(&r, 1));
+    println!(
+        "rounds {} ended {} collisions {} {:?}",
+        r.rounds,
+        r.protocol.ended_by,
+        r.collisions,
+        vopr::check(&case, &r, 1)
+    );
     println!("failures {:?}", r.protocol.failures);
 }

@@ -1,40 +1,60 @@
 //! Deterministic simulation testing of the robots' protocol, in the manner
 //! of FoundationDB's simulation tests and TigerBeetle's VOPR: one `u64`
-//! names a case (scenario, robots, algorithm, situation, radio faults and
-//! robot faults at random simulated times), the in-process engine runs it,
-//! and [`check`] tests what must hold whatever the faults:
+//! names a case (scenario, robots, algorithm, situation, radio and robot
+//! faults at random simulated times), the in-process engine runs it, and
+//! [`check`] tests what users rely on, whatever the faults:
 //!
-//! - no collision and no refused move;
+//! - the search ends only when it is done: never `false_stop` (a stop on an
+//!   incomplete search) nor `exhausted` (every case's map lets every
+//!   target be found);
+//! - no collision and no refused move, inside the stated bound
+//!   ([`Case::in_bound`]: no loss, every frame within its exchange window,
+//!   an algorithm that avoids collisions); past it only the rest is checked;
 //! - liveness: every slot closes within its limit (robots time out, the
-//!   clock never has to force a slot shut), and the search ends within
+//!   clock never has to force a slot shut; checked without loss), and the search ends within
 //!   [`MAX_ROUNDS`] rounds except in rare cases the algorithms themselves
 //!   cannot end (see [`Violation::Endless`]), which the test counts;
 //! - every crash becomes known to each robot that waited on it.
 //!
-//! Faults: crash, freeze (with or without a thaw), slowness, all at any
-//! moment including mid-chain; frames delayed, jittered (reordered) and
-//! duplicated. Not loss: under loss the guarantees are probabilistic, and
-//! `experiment radio` measures them instead. A failing case prints a
-//! `gridswarm simulate` command line that replays it exactly.
+//! Cases reach past the bounds the design states: frames later than the
+//! exchange window, loss mixed with crashes, robots slow by up to 10 s,
+//! teams of up to 60 on `cave` and random maps, every grid algorithm.
+//! A failing case prints a `gridswarm simulate` command line that replays
+//! it exactly.
 
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use crate::engine;
+use crate::grid::VertexId;
 use crate::outcome::{RunConfig, RunResult};
 use crate::params::Situation;
 use crate::policy::Policy;
 use crate::rng::{derive, mix};
+use crate::scenario::Scenario;
 use crate::sim::{schedule, Fault, FaultKind, Radio, Time};
+use crate::world::World;
 
-/// The scenario every case runs on (a built-in, so a reproducer needs no file).
-pub const SCENARIO: &str = "small";
+/// The scenarios cases run on (built-ins and random maps, so a reproducer
+/// needs no file), with the share of cases each gets, in 1/100.
+pub const SCENARIOS: [(&str, u64); 7] =
+    [("small", 70), ("paper", 8), ("cave", 8), ("random:1", 4), ("random:2", 4), ("random:3", 3), ("random:4", 3)];
+/// Every grid algorithm.
+pub const POLICIES: [Policy; 5] = [Policy::Repulsive, Policy::Sequential, Policy::Escape, Policy::Frontier, Policy::Ru];
 /// A case that has not ended after this many rounds fails the termination check.
-pub const MAX_ROUNDS: u32 = 5000;
+pub const MAX_ROUNDS: u32 = 2000;
 /// Delay plus jitter stays below this (µs), under the exchange window minus
-/// a hop: a map always arrives within the exchange it belongs to.
+/// a hop: a map always arrives within the exchange it belongs to. Cases
+/// past it are drawn too; they are checked for everything but collisions.
 pub const MAX_LATENESS: Time = 40_000;
+/// The most a robot is slowed by (µs).
+pub const MAX_SLOW: Time = 10_000_000;
 
 /// One generated case.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Case {
     pub number: u64,
+    pub scenario: &'static str,
     pub robots: usize,
     pub config: RunConfig,
 }
@@ -51,23 +71,58 @@ fn chance(number: u64, k: u64, p: f64) -> bool {
 /// Case `number` of the simulation test seeded with `seed`.
 pub fn case(seed: u64, index: u64) -> Case {
     let number = derive(seed, index);
-    let robots = 2 + draw(number, 1, 7) as usize;
-    let policy = [Policy::Repulsive, Policy::Sequential, Policy::Escape][draw(number, 2, 3) as usize];
+    let scenario = pick_scenario(draw(number, 40, 100));
+    let robots = team(number, scenario);
+    let policy = POLICIES[draw(number, 2, POLICIES.len() as u64) as usize];
     let situation = if draw(number, 3, 2) == 0 { Situation::One } else { Situation::Two };
     let mut cfg = RunConfig::new(policy, draw(number, 4, u64::MAX), situation);
     cfg.max_rounds = MAX_ROUNDS;
     cfg.record_trajectories = false;
     cfg.measure_coverage = false;
-    let delay = if chance(number, 5, 0.5) { draw(number, 6, MAX_LATENESS / 2) } else { 0 };
-    let jitter = if chance(number, 7, 0.5) { draw(number, 8, MAX_LATENESS - delay) } else { 0 };
-    let dup = if chance(number, 9, 0.3) { draw(number, 10, 1000) as f64 / 2000.0 } else { 0.0 };
-    cfg.radio = Radio { loss: 0.0, delay, jitter, dup };
+    cfg.radio = radio(number);
     cfg.faults = faults(number, robots);
-    Case { number, robots, config: cfg }
+    Case { number, scenario, robots, config: cfg }
+}
+
+fn pick_scenario(mut k: u64) -> &'static str {
+    for (name, share) in SCENARIOS {
+        if k < share {
+            return name;
+        }
+        k -= share;
+    }
+    SCENARIOS[0].0
+}
+
+/// 2 to 8 robots on `small`, to 13 elsewhere, and sometimes up to 60 on
+/// the bigger maps.
+fn team(number: u64, scenario: &str) -> usize {
+    if scenario == "small" {
+        2 + draw(number, 1, 7) as usize
+    } else if scenario != "paper" && chance(number, 41, 0.15) {
+        14 + draw(number, 1, 47) as usize
+    } else {
+        2 + draw(number, 1, 12) as usize
+    }
+}
+
+/// Delay and jitter mostly inside the exchange window, sometimes up to
+/// 400 ms past it; duplicates; and sometimes loss.
+fn radio(number: u64) -> Radio {
+    let (delay, jitter) = if chance(number, 11, 0.1) {
+        (draw(number, 6, 400_000), draw(number, 8, 100_000))
+    } else {
+        let delay = if chance(number, 5, 0.5) { draw(number, 6, MAX_LATENESS / 2) } else { 0 };
+        (delay, if chance(number, 7, 0.5) { draw(number, 8, MAX_LATENESS - delay) } else { 0 })
+    };
+    let dup = if chance(number, 9, 0.3) { draw(number, 10, 1000) as f64 / 2000.0 } else { 0.0 };
+    let loss = if chance(number, 12, 0.1) { (1 + draw(number, 13, 200)) as f64 / 1000.0 } else { 0.0 };
+    Radio { loss, delay, jitter, dup }
 }
 
 /// Up to three crashes or freezes of distinct robots (never all of them),
-/// and sometimes a slow robot, at random rounds and offsets.
+/// and sometimes a slow robot (by 1 ms to 10 s, every scale alike often),
+/// at random rounds and offsets.
 fn faults(number: u64, robots: usize) -> Vec<Fault> {
     let mut out = Vec::new();
     let failing = draw(number, 20, 4).min(robots as u64 - 1);
@@ -91,7 +146,9 @@ fn faults(number: u64, robots: usize) -> Vec<Fault> {
     if chance(number, 30, 0.3) {
         let robot = draw(number, 31, robots as u64) as usize;
         let round = draw(number, 32, 20) as u32;
-        let late = 1000 * (1 + draw(number, 33, 800));
+        // Milliseconds (what `--slow` takes), from 1 to 10^4 log-uniformly.
+        let ms = 10f64.powf(draw(number, 33, 4001) as f64 / 1000.0) as Time;
+        let late = (1000 * ms).min(MAX_SLOW);
         out.push(Fault { robot, round, offset: draw(number, 34, 1_000_000), kind: FaultKind::Slow(late) });
         if chance(number, 35, 0.5) {
             out.push(Fault {
@@ -106,11 +163,20 @@ fn faults(number: u64, robots: usize) -> Vec<Fault> {
 }
 
 impl Case {
+    /// Whether the design promises no collision for this case: no loss,
+    /// every frame within its exchange window (ARCHITECTURE.md, "Safety"),
+    /// and robots that avoid each other (RU's are particles).
+    pub fn in_bound(&self) -> bool {
+        let r = &self.config.radio;
+        r.loss == 0.0 && r.delay + r.jitter <= MAX_LATENESS && self.config.policy.collision_free()
+    }
+
     /// The `gridswarm simulate` command that replays this case.
     pub fn command(&self) -> String {
         let c = &self.config;
         let mut cmd = format!(
-            "cargo run --release --bin gridswarm -- simulate --scenario {SCENARIO} --robots {} --algorithm {} --seed {} --situation {} --max-rounds {}",
+            "cargo run --release --bin gridswarm -- simulate --scenario {} --robots {} --algorithm {} --seed {} --situation {} --max-rounds {}",
+            self.scenario,
             self.robots,
             c.policy.name(),
             c.seed,
@@ -124,6 +190,9 @@ impl Case {
         if r.dup > 0.0 {
             cmd += &format!(" --dup {}", r.dup);
         }
+        if r.loss > 0.0 {
+            cmd += &format!(" --loss {}", r.loss);
+        }
         for a in schedule::to_args(&c.faults) {
             cmd += " ";
             cmd += &a;
@@ -135,8 +204,9 @@ impl Case {
 /// What a finished case broke, if anything.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Violation {
-    /// Safety, slot liveness or failure detection: must never happen.
-    Broken(String),
+    /// Safety, the end of the search, slot liveness or failure detection:
+    /// must never happen. `kind` names which, for the test's tally.
+    Broken { kind: &'static str, why: String },
     /// The search did not end within [`MAX_ROUNDS`]. The algorithms are
     /// random walks over visited vertices once the vertices they know of
     /// are visited or out of reach: survivors that never met the bodies
@@ -147,30 +217,79 @@ pub enum Violation {
 }
 
 /// What must hold of a finished case.
-pub fn check(r: &RunResult, suspect_rounds: u32) -> Result<(), Violation> {
+pub fn check(case: &Case, r: &RunResult, suspect_rounds: u32) -> Result<(), Violation> {
     let p = &r.protocol;
-    let broken = |s: String| Err(Violation::Broken(s));
-    if r.collisions > 0 {
-        return broken(format!("{} collision(s)", r.collisions));
+    let broken = |kind, why: String| Err(Violation::Broken { kind, why });
+    if matches!(p.ended_by.as_str(), "false_stop" | "exhausted") {
+        let why = format!("ended by {} with {} of {} targets found", p.ended_by, r.targets_found, r.targets_total);
+        return broken("early stop", why);
     }
-    if p.refused > 0 {
-        return broken(format!("{} refused move(s)", p.refused));
+    if case.in_bound() && r.collisions > 0 {
+        return broken("collision", format!("{} collision(s)", r.collisions));
     }
-    if p.forced_slots > 0 {
-        return broken(format!("{} slot(s) closed at their limit", p.forced_slots));
+    if case.in_bound() && p.refused > 0 {
+        return broken("refused move", format!("{} refused move(s)", p.refused));
+    }
+    // Under loss a robot slow by seconds can still miss the slot's limit
+    // (5 cases in 100,000, all with loss and a robot slow by 4.7 to 10 s:
+    // issue 21, open); everywhere else the clock never forces a slot.
+    if p.forced_slots > 0 && case.config.radio.loss == 0.0 {
+        return broken("forced slot", format!("{} slot(s) closed at their limit", p.forced_slots));
     }
     for f in &p.failures {
         if !f.unaware.is_empty() {
-            return broken(format!(
+            let why = format!(
                 "robots {:?} waited on failed robot {} and had not declared it {} rounds later",
                 f.unaware,
                 f.robot,
                 suspect_rounds + 1
-            ));
+            );
+            return broken("undeclared crash", why);
         }
     }
     if p.ended_by == "max_rounds" {
         return Err(Violation::Endless);
     }
     Ok(())
+}
+
+/// The worlds and start vertices cases run on, built once each and shared
+/// by every thread of a test.
+#[derive(Default)]
+pub struct Worlds {
+    built: Mutex<HashMap<&'static str, Arc<(Scenario, World)>>>,
+    starts: Mutex<HashMap<(&'static str, usize), Arc<Vec<VertexId>>>>,
+}
+
+impl Worlds {
+    /// The world of `scenario`, built on first use.
+    pub fn world(&self, scenario: &'static str) -> Arc<(Scenario, World)> {
+        if let Some(w) = self.built.lock().expect("not poisoned").get(scenario) {
+            return w.clone();
+        }
+        let sc = Scenario::load(scenario).unwrap_or_else(|e| panic!("{scenario}: {e}"));
+        let w = Arc::new({
+            let world = sc.world();
+            (sc, world)
+        });
+        self.built.lock().expect("not poisoned").entry(scenario).or_insert(w).clone()
+    }
+
+    /// `case`'s world and its robots' start vertices.
+    pub fn of(&self, case: &Case) -> (Arc<(Scenario, World)>, Arc<Vec<VertexId>>) {
+        let w = self.world(case.scenario);
+        let key = (case.scenario, case.robots);
+        if let Some(s) = self.starts.lock().expect("not poisoned").get(&key) {
+            return (w, s.clone());
+        }
+        let s = w.0.start_vertices(&w.1, case.robots).unwrap_or_else(|e| panic!("{}: {e}", case.command()));
+        let s = self.starts.lock().expect("not poisoned").entry(key).or_insert(Arc::new(s)).clone();
+        (w, s)
+    }
+
+    /// Runs `case` in-process.
+    pub fn run(&self, case: &Case) -> RunResult {
+        let (w, starts) = self.of(case);
+        engine::run(&w.1, &starts, &case.config)
+    }
 }
