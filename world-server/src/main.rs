@@ -116,7 +116,6 @@ fn run(args: Args) -> Result<(), String> {
     // Dropped last, after the ports: then nothing of the run is in use.
     let _orphan = signals::end_cleanly_on_signals(signals::Cleanup {
         prefix: args.prefix.clone(),
-        root: ipc::root_dir(&config),
         run_dir: signals::run_dir_of(&args.run, &args.prefix),
     })?;
     let loaded = load(&args.run)?;

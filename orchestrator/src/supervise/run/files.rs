@@ -77,7 +77,9 @@ pub fn temp_files(prefix: &str) -> Vec<PathBuf> {
         .unwrap_or_default()
 }
 
-/// Removes the temporary directories of runs whose orchestrator is gone.
+/// Removes the temporary directories of runs whose orchestrator is gone:
+/// only real folders of this uid (never a symlink, never another user's
+/// entry under a run's name), one listing of the temporary directory.
 pub fn sweep_stale() {
     let Ok(dir) = fs::read_dir(std::env::temp_dir()) else { return };
     for e in dir.flatten() {
@@ -85,9 +87,8 @@ pub fn sweep_stale() {
         let Some(rest) = name.strip_prefix("gridswarm-") else { continue };
         let Some(end) = rest.find('_') else { continue };
         let Some(owner) = ipc::prefix_owner(&rest[..=end]) else { continue };
-        if owner != std::process::id() && !ipc::pid_alive(owner) {
-            let path = e.path();
-            let _ = if path.is_dir() { fs::remove_dir_all(&path) } else { fs::remove_file(&path) };
+        if owner != std::process::id() && !ipc::pid_alive(owner) && ipc::is_own_folder(&e.path()) {
+            let _ = fs::remove_dir_all(e.path());
         }
     }
 }

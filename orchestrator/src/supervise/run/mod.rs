@@ -237,9 +237,8 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     };
 
     let prefix = ipc::new_prefix();
-    let root = ipc::root_dir(&ipc::config(&prefix).map_err(Error::Run)?);
     // What SIGKILLed orchestrators left behind.
-    ipc::sweep_stale(&root);
+    ipc::sweep_stale();
     files::sweep_stale();
     let files = RunFiles::create(&prefix)?;
     let run_file = RunFile {
@@ -252,7 +251,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
 
     let (tx, rx) = mpsc::channel();
     launch::forward_signals(tx.clone()).map_err(Error::Run)?;
-    let mut procs = Processes::new(&prefix, root);
+    let mut procs = Processes::new(&prefix);
     let launch = opts.net.args(&prefix)?;
     if let Some(key) = &opts.net.remote_agents {
         eprintln!("{}", net::hand_hint(key, opts, &plan));
@@ -274,7 +273,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         }
     }
     launch::default_signals();
-    let leftovers = ipc::run_files(&prefix, &procs.root);
+    let leftovers = ipc::run_files(&prefix);
     if !leftovers.is_empty() {
         warn(format!("warning: {} file(s) of run {prefix} could not be removed", leftovers.len()));
     }

@@ -31,7 +31,6 @@ pub struct Processes {
     world_in: Option<ChildStdin>,
     pub agents: Vec<Child>,
     prefix: String,
-    pub root: PathBuf,
     /// Where the world-server's stderr goes.
     world_log: Option<PathBuf>,
     /// Where the agents' stderr goes.
@@ -106,13 +105,12 @@ impl Spawners {
 }
 
 impl Processes {
-    pub fn new(prefix: &str, root: PathBuf) -> Self {
+    pub fn new(prefix: &str) -> Self {
         Processes {
             world: None,
             world_in: None,
             agents: Vec::new(),
             prefix: prefix.to_string(),
-            root,
             world_log: None,
             agent_log: None,
             spawners: Spawners::default(),
@@ -224,7 +222,7 @@ impl Processes {
     }
 
     pub fn cleanup(&mut self) {
-        let _ = ipc::cleanup_run(&self.prefix, &self.root);
+        let _ = ipc::cleanup_run(&self.prefix);
     }
 }
 
