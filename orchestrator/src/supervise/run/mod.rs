@@ -159,7 +159,7 @@ pub struct Plan {
 /// Checks the options and builds the run: world, starts, faults.
 pub fn plan(opts: &RunOptions) -> Result<Plan> {
     if !opts.algorithm.on_grid() {
-        return Err(Error::Input(format!(
+        return Err(Error::Usage(format!(
             "`run` drives one process per robot on the grid; `{}` is not a robot program (use `simulate --algorithm {}`)",
             opts.algorithm, opts.algorithm
         )));
@@ -173,24 +173,26 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
     }
     let robots = opts.robots.unwrap_or(scenario.robots);
     if robots == 0 || robots > ipc::MAX_ROBOTS {
-        return Err(Error::Input(format!("robots must be in 1..={}, got {robots}", ipc::MAX_ROBOTS)));
+        let msg = format!("robots must be in 1..={}, got {robots}", ipc::MAX_ROBOTS);
+        // Out of range on the command line is a usage error; in a scenario file, the file's.
+        return Err(if opts.robots.is_some() { Error::Usage(msg) } else { Error::Scenario(msg) });
     }
-    schedule::check(&opts.faults, robots).map_err(Error::Input)?;
+    schedule::check(&opts.faults, robots).map_err(Error::Usage)?;
     opts.net.check()?;
     if opts.net.remote_agents.is_some() && (!opts.faults.is_empty() || opts.kill_random > 0) {
-        return Err(Error::Input(
+        return Err(Error::Usage(
             "faults are applied by signalling the agents' processes; with --remote-agents the orchestrator has none"
                 .into(),
         ));
     }
     for (name, p) in [("--loss", opts.radio.loss), ("--dup", opts.radio.dup)] {
         if !(0.0..=1.0).contains(&p) {
-            return Err(Error::Input(format!("{name} {p}: a probability is between 0 and 1")));
+            return Err(Error::Usage(format!("{name} {p}: a probability is between 0 and 1")));
         }
     }
     let taken: Vec<usize> = opts.faults.iter().map(|f| f.robot).collect();
     let mut faults = opts.faults.clone();
-    faults.extend(schedule::kill_random(opts.seed, robots, opts.kill_random, &taken).map_err(Error::Input)?);
+    faults.extend(schedule::kill_random(opts.seed, robots, opts.kill_random, &taken).map_err(Error::Usage)?);
     let world = scenario.world();
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
