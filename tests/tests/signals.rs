@@ -52,3 +52,27 @@ fn a_killed_orchestrator_leaves_no_process_and_no_file() {
     );
     assert_no_leftovers(&prefix);
 }
+
+/// Issue 23: a `kill -9`'d run leaves its hidden output folder (nothing
+/// can catch SIGKILL); the next run into the same place removes it.
+#[test]
+fn the_next_run_removes_the_hidden_folder_a_killed_run_left() {
+    let _s = serial();
+    let dir = scratch("killed-out");
+    let out = dir.join("out");
+    let out_arg = out.to_str().unwrap();
+    let mut child = spawn_hanging(&["run", "--robots", "3", "--seed", "7", "--out", out_arg], "1@2");
+    stopped_agent(child.id(), 1);
+    let hidden = |d: &std::path::Path| -> Vec<String> {
+        let names = std::fs::read_dir(d).unwrap().flatten().map(|e| e.file_name().to_string_lossy().into_owned());
+        names.filter(|n| n.starts_with(".out.tmp-")).collect()
+    };
+    assert_eq!(hidden(&dir).len(), 1, "the live run's hidden folder");
+    signal(child.id(), libc::SIGKILL);
+    let _ = child.wait();
+    assert_eq!(hidden(&dir).len(), 1, "SIGKILL leaves it");
+    let v = run_json(&["--robots", "2", "--seed", "1", "--out", out_arg]);
+    assert_eq!(v["complete"], true);
+    assert_eq!(hidden(&dir), Vec::<String>::new(), "the next run removed it");
+    assert!(out.join("summary.json").is_file());
+}
