@@ -129,3 +129,36 @@ fn an_agent_that_fails_at_start_ends_the_run_at_once_with_its_error() {
     assert!(took < Duration::from_secs(10), "took {took:?}");
     assert_no_leftovers(&prefixes);
 }
+
+/// Issue 23: an agent that exits, even with status 0, or dies before its
+/// hello ended the run only at the world's hello time-out (30 s). It ends
+/// the run at once, with its exit status.
+#[test]
+fn an_agent_that_dies_before_its_hello_ends_the_run_at_once_with_its_status() {
+    let _s = serial();
+    let bin = scratch("dying-agent");
+    let agent = bin.join("agent");
+    fs::write(&agent, "#!/bin/sh\nif [ \"$1\" = --list-rules ]; then echo repulsive; exit 0; fi\nkill -9 $$\n")
+        .unwrap();
+    fs::set_permissions(&agent, fs::Permissions::from_mode(0o755)).unwrap();
+    for (program, status) in [(agent.as_path(), "(signal 9)"), (std::path::Path::new("/bin/true"), "(exit status 0)")] {
+        let t = Instant::now();
+        let child = gridswarm()
+            .args(["run", "--robots", "3", "--agent-bin"])
+            .arg(program)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let prefixes = format!("gs{}x", child.id());
+        let out = child.wait_with_output().unwrap();
+        let took = t.elapsed();
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{program:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "one line: {err}");
+        assert!(err.starts_with("error: robot-agent ") && err.contains(&format!("failed at start {status}")), "{err}");
+        // Well before the world's hello time-out (30 s), on a busy machine.
+        assert!(took < Duration::from_secs(20), "{program:?}: took {took:?}");
+        assert_no_leftovers(&prefixes);
+    }
+}

@@ -362,8 +362,8 @@ fn follow(
     Ok(Followed { applied, ready_ms, spawned_ms, run_ms })
 }
 
-/// The next event; an agent that exited with an error ends the run first,
-/// in its own words.
+/// The next event; an agent that exited with an error, or exited at all
+/// before the first slot, ends the run first, in its own words.
 fn next_event(
     procs: &mut Processes,
     rx: &Receiver<Event>,
@@ -378,7 +378,8 @@ fn next_event(
         };
         if polled.elapsed() >= AGENT_POLL {
             *polled = Instant::now();
-            if let Some((k, status)) = procs.failed_agent() {
+            // Before the first `tick`, the agents have not all said hello.
+            if let Some((k, status)) = procs.failed_agent(round.is_none()) {
                 return Err(agent_failed(procs, k, status, round));
             }
         }

@@ -188,9 +188,15 @@ impl Processes {
     /// The first agent found to have exited with an error status (neither
     /// 0, `End`, nor [`ipc::EXIT_WORLD_GONE`]; a signal is a fault or a
     /// death the world finds by itself): its number and how it ended.
-    pub fn failed_agent(&mut self) -> Option<(usize, ExitStatus)> {
+    /// `at_start`: before the world's first slot, when any exit (0, a
+    /// signal) is a failure: a robot that never says hello would stall the
+    /// run until the world's hello time-out (30 s). Later a robot killed by a
+    /// signal is a crash the others detect, and status 0 or
+    /// [`ipc::EXIT_WORLD_GONE`] its normal end.
+    pub fn failed_agent(&mut self, at_start: bool) -> Option<(usize, ExitStatus)> {
+        let failed = |st: &ExitStatus| at_start || st.code().is_some_and(|c| c != 0 && c != ipc::EXIT_WORLD_GONE);
         self.agents.iter_mut().enumerate().find_map(|(k, c)| match c.try_wait() {
-            Ok(Some(st)) if st.code().is_some_and(|c| c != 0 && c != ipc::EXIT_WORLD_GONE) => Some((k, st)),
+            Ok(Some(st)) if failed(&st) => Some((k, st)),
             _ => None,
         })
     }
