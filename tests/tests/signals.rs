@@ -76,3 +76,28 @@ fn the_next_run_removes_the_hidden_folder_a_killed_run_left() {
     assert_eq!(hidden(&dir), Vec::<String>::new(), "the next run removed it");
     assert!(out.join("summary.json").is_file());
 }
+
+/// Issue 23: a world-server stopped with SIGSTOP hung `gridswarm run`
+/// forever. The world says `alive` every second while it waits, so the
+/// run notices its silence (10 s) and ends with a message naming it.
+#[test]
+fn a_stopped_world_ends_the_run_with_a_message() {
+    let _s = serial();
+    let (mut child, world, agents, prefix) = stalled_run();
+    signal(world, libc::SIGSTOP);
+    // 10 s of silence, with room for a busy machine; never forever.
+    let ended = wait_until(Duration::from_secs(60), || child.try_wait().is_ok_and(|s| s.is_some()));
+    if !ended {
+        let _ = child.kill();
+    }
+    let out = child.wait_with_output().unwrap();
+    assert!(ended, "the run still hangs 60 s after its world was stopped");
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    let last = err.lines().last().unwrap_or("");
+    assert!(last.starts_with(&format!("error: world-server (pid {world}) is stopped")), "{err}");
+    assert!(last.contains("has said nothing for 10 s"), "{err}");
+    let mut pids = agents;
+    pids.push(world);
+    assert_all_gone(&pids, &prefix);
+}

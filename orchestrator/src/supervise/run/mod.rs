@@ -10,8 +10,9 @@
 //! world-server, wait for its `ready`; spawn the agents ([`spawn`]); follow
 //! the world's stdout (`tick K`, `fault K` → signal → `go`, `done`); read
 //! its report; reap the agents; remove every file of the run; write the
-//! outputs ([`summary`]). If the world-server dies, an agent exits with an
-//! error (at start, its own line is shown at once, not after the world's
+//! outputs ([`summary`]). If the world-server dies or says nothing for
+//! [`WORLD_SILENCE`], an agent exits with an error (or at all before the
+//! first slot: its own line is shown at once, not after the world's
 //! hello time-out), or SIGINT, SIGTERM, SIGHUP or SIGQUIT arrives, every
 //! child is killed and reaped and the run's files removed before the
 //! one-line error. A run the open-file limit cannot hold is refused before
@@ -53,6 +54,11 @@ use spawn::Processes;
 const AGENT_GRACE: Duration = Duration::from_secs(5);
 /// How often the orchestrator looks for agents that exited with an error.
 const AGENT_POLL: Duration = Duration::from_millis(100);
+/// A world that says nothing this long ends the run: it prints `tick K`
+/// every slot and `alive` every second while it waits for robots, so its
+/// silence means it is stopped (SIGSTOP) or stuck. Before `ready` (no
+/// heartbeat yet) only a world stopped this long does.
+pub const WORLD_SILENCE: Duration = Duration::from_secs(10);
 
 #[derive(Clone, Debug)]
 pub struct RunOptions {
@@ -332,27 +338,29 @@ fn follow(
     let spawned_ms = started.elapsed().as_secs_f64() * 1e3;
     let faults = &plan.cfg.faults;
     let mut applied = vec![false; faults.len()];
-    let mut round: Option<u32> = None;
-    let mut polled = Instant::now();
+    let mut watch = Watch { round: None, polled: Instant::now(), heard: Instant::now() };
     loop {
-        match next_event(procs, rx, round, &mut polled)? {
+        match next_event(procs, rx, &mut watch)? {
             Ok(Event::Line(l)) if l == "done" => break,
             Ok(Event::Line(l)) => {
                 if let Some(k) = l.strip_prefix("tick ").and_then(|k| k.parse().ok()) {
-                    round = Some(k);
+                    watch.round = Some(k);
                 } else if let Some(k) = l.strip_prefix("fault ").and_then(|k| k.parse::<usize>().ok()) {
                     if let Some(f) = faults.get(k) {
                         applied[k] = inject::apply(f.kind, &mut procs.agents[f.robot]);
                     }
                     if !procs.go() {
-                        return Err(world_died(procs, round));
+                        return Err(world_died(procs, watch.round));
                     }
+                    // The world waited for us meanwhile.
+                    watch.heard = Instant::now();
                 }
             }
-            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, round)),
+            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, watch.round)),
             Ok(Event::Signal(s)) => return Err(interrupted(procs, s)),
         }
     }
+    let round = watch.round;
     let run_ms = started.elapsed().as_secs_f64() * 1e3;
     if let Some(Ok(st)) = procs.world.as_mut().map(|w| w.wait()) {
         if !st.success() {
@@ -362,25 +370,41 @@ fn follow(
     Ok(Followed { applied, ready_ms, spawned_ms, run_ms })
 }
 
+/// What the orchestrator follows of a live run.
+struct Watch {
+    /// The world's last `tick`; `None` before the first slot.
+    round: Option<u32>,
+    /// When the agents were last looked at.
+    polled: Instant,
+    /// When the world last printed a line.
+    heard: Instant,
+}
+
 /// The next event; an agent that exited with an error, or exited at all
-/// before the first slot, ends the run first, in its own words.
+/// before the first slot, ends the run first, in its own words, and so
+/// does a world silent for [`WORLD_SILENCE`].
 fn next_event(
     procs: &mut Processes,
     rx: &Receiver<Event>,
-    round: Option<u32>,
-    polled: &mut Instant,
+    watch: &mut Watch,
 ) -> Result<std::result::Result<Event, mpsc::RecvError>> {
     loop {
-        let ev = match rx.recv_timeout(AGENT_POLL.saturating_sub(polled.elapsed())) {
+        let ev = match rx.recv_timeout(AGENT_POLL.saturating_sub(watch.polled.elapsed())) {
             Ok(ev) => Some(Ok(ev)),
             Err(mpsc::RecvTimeoutError::Timeout) => None,
             Err(mpsc::RecvTimeoutError::Disconnected) => Some(Err(mpsc::RecvError)),
         };
-        if polled.elapsed() >= AGENT_POLL {
-            *polled = Instant::now();
+        if let Some(Ok(Event::Line(_))) = ev {
+            watch.heard = Instant::now();
+        }
+        if watch.polled.elapsed() >= AGENT_POLL {
+            watch.polled = Instant::now();
             // Before the first `tick`, the agents have not all said hello.
-            if let Some((k, status)) = procs.failed_agent(round.is_none()) {
-                return Err(agent_failed(procs, k, status, round));
+            if let Some((k, status)) = procs.failed_agent(watch.round.is_none()) {
+                return Err(agent_failed(procs, k, status, watch.round));
+            }
+            if watch.heard.elapsed() >= WORLD_SILENCE {
+                return Err(world_silent(procs, watch.round));
             }
         }
         if let Some(ev) = ev {
@@ -405,13 +429,22 @@ fn agent_failed(procs: &mut Processes, k: usize, status: std::process::ExitStatu
     Error::Run(format!("robot-agent {k} failed {when} ({}){}", launch::describe(status), said.unwrap_or_default()))
 }
 
+/// Waits for the world's `ready`. Building the services of thousands of
+/// robots takes a while and prints nothing, so only a world stopped for
+/// [`WORLD_SILENCE`] ends the run here.
 fn wait_ready(procs: &mut Processes, rx: &Receiver<Event>) -> Result<()> {
+    let mut running = Instant::now();
     loop {
-        match rx.recv() {
+        match rx.recv_timeout(AGENT_POLL) {
             Ok(Event::Line(l)) if l == "ready" => return Ok(()),
-            Ok(Event::Line(_)) => {}
-            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, None)),
+            Ok(Event::Line(_)) | Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Ok(Event::WorldClosed) | Err(mpsc::RecvTimeoutError::Disconnected) => return Err(world_died(procs, None)),
             Ok(Event::Signal(s)) => return Err(interrupted(procs, s)),
+        }
+        if !ipc::pid_stopped(procs.world_pid()) {
+            running = Instant::now();
+        } else if running.elapsed() >= WORLD_SILENCE {
+            return Err(world_silent(procs, None));
         }
     }
 }
@@ -437,6 +470,23 @@ fn world_died(procs: &mut Processes, round: Option<u32>) -> Error {
     let said = procs.world_said();
     let why = said.iter().rev().find_map(|l| l.strip_prefix("error: ")).map(|r| format!(": {r}")).unwrap_or_default();
     Error::Run(format!("world-server {verb} ({how}) {when}{why}"))
+}
+
+/// Ends the run whose world said nothing for [`WORLD_SILENCE`].
+fn world_silent(procs: &mut Processes, round: Option<u32>) -> Error {
+    let pid = procs.world_pid();
+    let how = if ipc::pid_stopped(pid) { "is stopped (SIGSTOP?) and " } else { "" };
+    let when = match round {
+        Some(k) => format!("in round {k}"),
+        None => "at start".into(),
+    };
+    procs.abort();
+    launch::default_signals();
+    Error::Run(format!(
+        "world-server (pid {pid}) {how}has said nothing for {} s {when}: stopped it and every robot-agent, \
+         removed the run's shared-memory files",
+        WORLD_SILENCE.as_secs()
+    ))
 }
 
 fn interrupted(procs: &mut Processes, sig: i32) -> Error {
