@@ -491,6 +491,12 @@ fn finished(complete: bool) -> ExitCode {
 }
 
 fn main() -> ExitCode {
+    // From the first line: a signal at any moment ends the command with one
+    // line and exit status 1, its unfinished folders removed.
+    if let Err(e) = gridswarm_orchestrator::launch::handle_signals() {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     // Before parsing: the agent's algorithms are names `--algorithm` accepts.
     if let Err(e) = gridswarm_orchestrator::cli::agents::from_args(&std::env::args_os().collect::<Vec<_>>()) {
         eprintln!("error: {e}");

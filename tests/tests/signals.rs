@@ -101,3 +101,34 @@ fn a_stopped_world_ends_the_run_with_a_message() {
     pids.push(world);
     assert_all_gone(&pids, &prefix);
 }
+
+/// Issue 23: outside a run's loop (setup, the checks, an in-process sweep,
+/// writing the outputs) the four signals killed `gridswarm` with no word,
+/// exit 130 or 131, its hidden output folder left. They are handled from
+/// the first line of `main`: one line naming the signal, exit 1, nothing
+/// left. Here in the middle of an in-process sweep, which runs for many
+/// seconds (500 runs a cell).
+#[test]
+fn a_signal_outside_a_run_ends_the_command_cleanly() {
+    let _s = serial();
+    let dir = scratch("signal-sweep");
+    let out = dir.join("out");
+    for (sig, name) in
+        [(libc::SIGINT, "SIGINT"), (libc::SIGTERM, "SIGTERM"), (libc::SIGHUP, "SIGHUP"), (libc::SIGQUIT, "SIGQUIT")]
+    {
+        let child = gridswarm()
+            .args(["experiment", "--runs", "500", "--out", out.to_str().unwrap()])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let hidden = || std::fs::read_dir(&dir).unwrap().count();
+        assert!(wait_until(Duration::from_secs(30), || hidden() == 1), "{name}: no staging folder appeared");
+        signal(child.id(), sig);
+        let o = child.wait_with_output().unwrap();
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{name}: {:?} {err}", o.status);
+        assert_eq!(err.trim_end().lines().last(), Some(format!("error: interrupted by {name}").as_str()), "{err}");
+        assert_eq!(hidden(), 0, "{name}: the unfinished output folder was left");
+    }
+}

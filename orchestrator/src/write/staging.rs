@@ -79,6 +79,7 @@ impl Staging {
                     .err()
                     .unwrap_or_else(|| std::io::Error::other("no free name")),
             })?;
+        crate::launch::remove_on_interrupt(&dir);
         let s = Staging { target: target.to_path_buf(), dir, done: false };
         fs::write(s.dir.join(MARKER), "written by gridswarm; this folder is replaced whole by the next run\n")
             .map_err(|source| Error::Write { path: s.dir.join(MARKER), source })?;
@@ -98,6 +99,14 @@ impl Staging {
     /// Puts the staged files in place of `target`, whose old contents are
     /// removed only once the new ones are there.
     pub fn commit(mut self) -> Result<()> {
+        // A signal meanwhile ends the command after the renames, not between them.
+        crate::launch::uninterrupted(|| self.put_in_place())?;
+        // Renamed into place: a signal now has nothing to remove.
+        crate::launch::finished(&self.dir);
+        Ok(())
+    }
+
+    fn put_in_place(&mut self) -> Result<()> {
         check_replaceable(&self.target)?;
         let old = self.dir.with_extension("old");
         let had_old = self.target.exists();
@@ -122,6 +131,7 @@ impl Drop for Staging {
     fn drop(&mut self) {
         if !self.done {
             let _ = fs::remove_dir_all(&self.dir);
+            crate::launch::finished(&self.dir);
         }
     }
 }

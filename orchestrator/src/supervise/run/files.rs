@@ -25,6 +25,7 @@ impl RunFiles {
         let dir = std::env::temp_dir().join(format!("gridswarm-{prefix}"));
         // Only this user may read the run's files (SECURITY.md).
         fs::DirBuilder::new().mode(0o700).create(&dir).map_err(Error::write(&dir))?;
+        crate::launch::remove_on_interrupt(&dir);
         Ok(RunFiles { dir })
     }
 
@@ -66,6 +67,7 @@ fn write_json(path: &Path, v: &impl serde::Serialize) -> Result<()> {
 impl Drop for RunFiles {
     fn drop(&mut self) {
         let _ = fs::remove_dir_all(&self.dir);
+        crate::launch::finished(&self.dir);
     }
 }
 

@@ -274,13 +274,14 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let statuses: Vec<Option<i32>> =
         procs.agents.iter_mut().map(|c| c.try_wait().ok().flatten().and_then(|s| s.code())).collect();
     procs.cleanup();
-    // A signal that came while the agents were ending.
+    // From here a signal ends the command itself (the unfinished folders
+    // removed); one that came while the agents were ending is in `rx`.
+    launch::default_signals();
     while let Ok(ev) = rx.try_recv() {
         if let Event::Signal(s) = ev {
             return Err(interrupted(&mut procs, s));
         }
     }
-    launch::default_signals();
     let leftovers = ipc::run_files(&prefix);
     if !leftovers.is_empty() {
         warn(format!("warning: {} file(s) of run {prefix} could not be removed", leftovers.len()));
