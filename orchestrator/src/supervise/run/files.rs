@@ -94,3 +94,45 @@ pub fn sweep_stale() {
         }
     }
 }
+
+/// Free and total bytes of the file system under `/dev/shm`.
+fn shm_space() -> Option<(u64, u64)> {
+    let path = std::ffi::CString::new("/dev/shm").ok()?;
+    // SAFETY: an all-zero statvfs is a valid out-parameter for statvfs(3).
+    let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
+    // SAFETY: a valid C string and out-parameter.
+    if unsafe { libc::statvfs(path.as_ptr(), &mut st) } != 0 {
+        return None;
+    }
+    let block = st.f_frsize as u64;
+    Some((st.f_bavail as u64 * block, st.f_blocks as u64 * block))
+}
+
+/// Below this much free space in `/dev/shm` a failed run says so: a run's
+/// shared-memory files and pages may not have fit.
+const SHM_FULL_BYTES: u64 = 1 << 20;
+
+/// What to add to the error of a process that `died_of_sigbus` or failed,
+/// measured before the run's files are removed: shared memory that ran
+/// out (a page of a file in a full `/dev/shm` is a SIGBUS when touched;
+/// a file that does not fit, iceoryx2's "could not be created").
+pub fn shm_note(died_of_sigbus: bool) -> String {
+    let Some((free, total)) = shm_space() else { return String::new() };
+    let kib = |b: u64| b / 1024;
+    if died_of_sigbus {
+        format!(
+            "; SIGBUS: the run's shared memory in /dev/shm could not be backed ({} KiB free of {} KiB): free some, or enlarge /dev/shm",
+            kib(free),
+            kib(total)
+        )
+    } else if free < SHM_FULL_BYTES {
+        // Measured after the failed process removed what it had made.
+        format!(
+            "; /dev/shm, where the run's shared memory lives, has only {} KiB free of {} KiB: free some, or enlarge it",
+            kib(free),
+            kib(total)
+        )
+    } else {
+        String::new()
+    }
+}

@@ -425,9 +425,11 @@ fn agent_failed(procs: &mut Processes, k: usize, status: std::process::ExitStatu
         let l = l.strip_prefix(&own).unwrap_or(&l);
         format!(": {}", l.strip_prefix("error: ").unwrap_or(l))
     });
+    let shm = files::shm_note(std::os::unix::process::ExitStatusExt::signal(&status) == Some(libc::SIGBUS));
     procs.abort();
     launch::default_signals();
-    Error::Run(format!("robot-agent {k} failed {when} ({}){}", launch::describe(status), said.unwrap_or_default()))
+    let how = launch::describe(status);
+    Error::Run(format!("robot-agent {k} failed {when} ({how}){}{shm}", said.unwrap_or_default()))
 }
 
 /// Waits for the world's `ready`. Building the services of thousands of
@@ -464,13 +466,16 @@ fn world_died(procs: &mut Processes, round: Option<u32>) -> Error {
         Some(k) => format!("in round {k}"),
         None => "before it was ready".into(),
     };
+    // Before the run's files go and free the space they held.
+    let sigbus = status.is_some_and(|s| std::os::unix::process::ExitStatusExt::signal(&s) == Some(libc::SIGBUS));
+    let shm = files::shm_note(sigbus);
     procs.abort();
     launch::default_signals();
     let verb = if how.starts_with("signal") { "died" } else { "failed" };
     // Its own one-line reason, when it gave one.
     let said = procs.world_said();
     let why = said.iter().rev().find_map(|l| l.strip_prefix("error: ")).map(|r| format!(": {r}")).unwrap_or_default();
-    Error::Run(format!("world-server {verb} ({how}) {when}{why}"))
+    Error::Run(format!("world-server {verb} ({how}) {when}{why}{shm}"))
 }
 
 /// Ends the run whose world said nothing for [`WORLD_SILENCE`].
