@@ -402,6 +402,10 @@ fn next_event(
             watch.polled = Instant::now();
             // Before the first `tick`, the agents have not all said hello.
             if let Some((k, status)) = procs.failed_agent(watch.round.is_none()) {
+                // An agent that found its world gone: the world's end is the news.
+                if status.code() == Some(ipc::EXIT_WORLD_GONE) && procs.world_exited() {
+                    return Err(world_died(procs, watch.round));
+                }
                 return Err(agent_failed(procs, k, status, watch.round));
             }
             if watch.heard.elapsed() >= WORLD_SILENCE {

@@ -201,6 +201,11 @@ impl Processes {
         })
     }
 
+    /// Whether the world-server has exited (its status is kept for [`Child::wait`]).
+    pub fn world_exited(&mut self) -> bool {
+        self.world.as_mut().is_some_and(|w| matches!(w.try_wait(), Ok(Some(_))))
+    }
+
     /// What agent `k` said: its own line in the agents' log (ours start
     /// `robot-agent K`), else the log's first line (another program's).
     pub fn agent_said(&self, k: usize) -> Option<String> {
