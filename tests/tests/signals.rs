@@ -132,3 +132,26 @@ fn a_signal_outside_a_run_ends_the_command_cleanly() {
         assert_eq!(hidden(), 0, "{name}: the unfinished output folder was left");
     }
 }
+
+/// The other side of the world's 10 s: a world that waits longer on a
+/// robot that stopped itself (its patience is 30 s) keeps saying it is
+/// alive, so the run ends with the world's own verdict on the robot, not
+/// with a stuck world.
+#[test]
+fn a_world_waiting_on_a_silent_robot_is_not_taken_for_stuck() {
+    let _s = serial();
+    let (mut child, world, agents, prefix) = stalled_run();
+    let ended = wait_until(Duration::from_secs(120), || child.try_wait().is_ok_and(|s| s.is_some()));
+    if !ended {
+        let _ = child.kill();
+    }
+    let out = child.wait_with_output().unwrap();
+    assert!(ended, "the run still hangs 120 s after a robot stopped itself");
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(!err.contains("said nothing"), "a waiting world was taken for stuck: {err}");
+    assert!(err.contains("robot 2") && err.contains("has not answered for 30 s"), "{err}");
+    let mut pids = agents;
+    pids.push(world);
+    assert_all_gone(&pids, &prefix);
+}
