@@ -271,8 +271,10 @@ const EXIT_STATUS: &str = "Exit status:
   0  success: the search completed (simulate, run); the command did its work (experiments, replay, check)
   1  error: bad scenario or value, unwritable output, a failed child process, too low an open-file
      limit, interrupted by SIGINT, SIGTERM, SIGHUP or SIGQUIT
-  2  usage error: unknown flag or algorithm, a value out of range
-  3  the search ended incomplete (simulate, run: every robot failed, cut off, or the round limit
+  2  usage error: unknown flag or algorithm, a value out of range, faults that do not fit the run, flags
+     that do not fit together (e.g. run --algorithm lfp, --listen without --transport zenoh)
+  3  the search ended incomplete (simulate, run: every robot failed, cut off, a stop that knew
+     targets unfound (exhausted) or came on an incomplete search (false_stop), or the round limit
      reached, --max-rounds or simulate's work budget; its outputs are written), or `check` found a
      failing assumption";
 
@@ -490,6 +492,12 @@ fn finished(complete: bool) -> ExitCode {
 }
 
 fn main() -> ExitCode {
+    // From the first line: a signal at any moment ends the command with one
+    // line and exit status 1, its unfinished folders removed.
+    if let Err(e) = gridswarm_orchestrator::launch::handle_signals() {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     // Before parsing: the agent's algorithms are names `--algorithm` accepts.
     if let Err(e) = gridswarm_orchestrator::cli::agents::from_args(&std::env::args_os().collect::<Vec<_>>()) {
         eprintln!("error: {e}");

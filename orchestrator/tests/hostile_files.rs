@@ -63,3 +63,34 @@ fn check_and_simulate_refuse_every_hostile_file_quickly() {
         }
     }
 }
+
+/// Issue 23: a scenario named with an escape sequence that clears the
+/// screen and a newline that fakes an `error:` line. Every command that
+/// prints the name prints it with its control characters escaped.
+#[test]
+fn a_name_with_control_characters_is_printed_escaped() {
+    let small = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenarios/small.toml"))
+        .expect("the small scenario");
+    let hostile = small.replacen("name = \"small\"", "name = \"\\u001b[2J\\nerror: fake\"", 1);
+    assert_ne!(hostile, small, "the name line was replaced");
+    let dir = std::env::temp_dir().join(format!("gs-e2e-names-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("hostile-name.toml");
+    std::fs::write(&file, hostile).unwrap();
+    let (path, out) = (file.to_str().unwrap(), dir.join("out"));
+    let experiment = ["experiment", "--scenario", path, "--robots", "1", "--runs", "1", "--algorithms", "repulsive"];
+    let cases: [Vec<&str>; 3] = [
+        vec!["check", path],
+        vec!["simulate", "--scenario", path],
+        [&experiment[..], &["--out", out.to_str().unwrap()]].concat(),
+    ];
+    let outputs: Vec<(Vec<&str>, Output)> = cases.into_iter().map(|args| (args.clone(), within_bound(&args))).collect();
+    std::fs::remove_dir_all(&dir).unwrap();
+    for (args, o) in outputs {
+        let all = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+        assert!(o.status.success(), "{args:?}: {all}");
+        assert!(!all.contains('\u{1b}'), "{args:?} printed a raw escape: {all:?}");
+        assert!(!all.lines().any(|l| l.starts_with("error: fake")), "{args:?} printed a fake error line: {all}");
+        assert!(all.contains("\\u{1b}[2J\\nerror: fake"), "{args:?} does not show the name escaped: {all}");
+    }
+}

@@ -54,9 +54,8 @@ fn without_a_world_it_fails_at_once() {
     assert!(err.starts_with("robot-agent 0: error: cannot open service"), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     // Its node left iceoryx2's small management file: what the run's owner removes.
-    let root = gridswarm::ipc::root_dir(&gridswarm::ipc::config(&prefix).unwrap());
-    gridswarm::ipc::cleanup_run(&prefix, &root).unwrap();
-    assert!(gridswarm::ipc::run_files(&prefix, &root).is_empty());
+    gridswarm::ipc::cleanup_run(&prefix).unwrap();
+    assert!(gridswarm::ipc::run_files(&prefix).is_empty());
 }
 
 #[test]

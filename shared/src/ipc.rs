@@ -49,7 +49,7 @@ pub mod outbox;
 pub mod private;
 pub mod wake;
 
-pub use files::{cleanup_run, run_files, run_prefixes, sweep_stale};
+pub use files::{cleanup_run, is_own_folder, run_files, sweep_stale};
 pub use private::{describe_uid, run_root};
 
 /// Every prefix of a run starts with this, followed by the owner's pid.
@@ -475,7 +475,7 @@ mod tests {
         let node = create_node(&c, "probe").unwrap();
         let _service = create_event(&node, "probe/wake", 1, 1).unwrap();
         assert_eq!(private::nodes_counted(&prefix), Ok(1));
-        let files = run_files(&prefix, &root);
+        let files = run_files(&prefix);
         let counters: Vec<_> = files.iter().filter(|f| f.to_string_lossy().ends_with(".global_mgmt")).collect();
         assert_eq!(counters, [&private::node_counter_path(&prefix)], "iceoryx2 used the counter gridswarm made");
         assert!(files.len() > 3, "{files:?}");
@@ -486,8 +486,8 @@ mod tests {
         assert_eq!(fs::metadata(&root).unwrap().mode() & 0o777, 0o700);
         drop(_service);
         drop(node);
-        assert!(cleanup_run(&prefix, &root).unwrap() > 0);
-        assert!(run_files(&prefix, &root).is_empty());
+        assert!(cleanup_run(&prefix).unwrap() > 0);
+        assert!(run_files(&prefix).is_empty());
         assert!(!root.exists(), "the run's root folder goes with its files");
     }
 

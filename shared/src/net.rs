@@ -108,6 +108,9 @@ fn quote(s: &str) -> Result<String, String> {
 }
 
 fn list(items: &[String]) -> Result<String, String> {
+    for e in items {
+        crate::transport::check_endpoint(e)?;
+    }
     let quoted: Result<Vec<String>, String> = items.iter().map(|s| quote(s)).collect();
     Ok(format!("[{}]", quoted?.join(",")))
 }

@@ -69,6 +69,23 @@ pub fn check_key(key: &str) -> Result<(), String> {
     }
 }
 
+/// A zenoh endpoint this build can use: `tcp/HOST:PORT`, optionally with
+/// zenoh's `?metadata` or `#config` after it (TCP is the only link built
+/// in). Checked before zenoh sees it: zenoh's own error is a debug dump
+/// naming its source files.
+pub fn check_endpoint(e: &str) -> Result<(), String> {
+    let bare = e.split(['?', '#']).next().unwrap_or("");
+    let addr = bare.strip_prefix("tcp/");
+    let ok = addr.and_then(|a| a.rsplit_once(':')).is_some_and(|(host, port)| {
+        !host.is_empty() && !host.chars().any(|c| c.is_control() || c.is_whitespace()) && port.parse::<u16>().is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("`{}` is not an endpoint: expected tcp/HOST:PORT, e.g. tcp/0.0.0.0:7447", e.escape_default()))
+    }
+}
+
 /// The world's side: one inbox per robot, one queue of answers.
 pub trait WorldTransport {
     /// Puts one message (numbered `seq`) into robot `r`'s inbox, in chunks.
@@ -127,5 +144,17 @@ mod tests {
         for bad in ["", "a/b", "a*", "**", "$x", "a b", &"k".repeat(101)] {
             assert!(check_key(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn endpoints_are_tcp_host_port() {
+        for good in ["tcp/127.0.0.1:7447", "tcp/[::1]:7447", "tcp/world.lab:1#iface=eth0", "tcp/h:0?x=1"] {
+            assert_eq!(check_endpoint(good), Ok(()), "{good}");
+        }
+        for bad in ["garbage", "tcp/", "tcp/:7447", "tcp/host", "tcp/host:99999", "udp/h:1", "tcp/h\n:1"] {
+            let err = check_endpoint(bad).unwrap_err();
+            assert!(err.contains("expected tcp/HOST:PORT"), "{bad}: {err}");
+        }
+        assert!(check_endpoint("tcp/h\u{1b}:1").unwrap_err().contains("\\u{1b}"), "escaped");
     }
 }

@@ -79,7 +79,7 @@ pub fn ok(args: &[&str]) -> Output {
 
 /// Every file of the run with this prefix in /dev/shm and its iceoryx2 root.
 pub fn leftover_files(prefix: &str) -> Vec<PathBuf> {
-    gridswarm::ipc::run_files(prefix, &gridswarm::ipc::run_root(prefix))
+    gridswarm::ipc::run_files(prefix)
 }
 
 /// No file in /dev/shm or iceoryx2's root, no temporary file and no

@@ -37,19 +37,49 @@ fn a_search_exits_0_complete_and_3_incomplete_in_both_engines() {
     }
 }
 
+/// Every documented case of the README's exit-status table, each with the
+/// words of the table's row it stands for (which the row must hold), run
+/// against the binary. Signals (exit 1) are in `signals.rs`, a too low
+/// open-file limit in `limits.rs`, a failing agent below.
 #[test]
-fn errors_exit_1_and_usage_errors_2() {
-    let cases: &[(&[&str], i32)] = &[
-        (&["run", "--scenario", "no-such-scenario"], 1),
-        (&["simulate", "--scenario", "no-such-scenario"], 1),
-        (&["run", "--robots", "0"], 2),
-        (&["simulate", "--robots", "3", "--kill", "3@2"], 2),
-        (&["run", "--no-such-flag"], 2),
+fn every_documented_exit_status_case_exits_as_the_readme_s_table_says() {
+    let _s = serial();
+    let readme = fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).expect("README.md");
+    let row = |code: i32| {
+        let head = format!("| {code} | ");
+        readme.lines().find(|l| l.starts_with(&head)).unwrap_or_else(|| panic!("no row {code} in README's table"))
+    };
+    let unwritable = "/proc/gridswarm-unwritable";
+    let cases: &[(&[&str], i32, &str)] = &[
+        (&["simulate", "--robots", "3", "--seed", "2"], 0, "the search completed"),
+        (&["check", "paper"], 0, "the command did its work"),
+        (&["simulate", "--scenario", "no-such-scenario"], 1, "a bad scenario"),
+        (&["run", "--scenario", "no-such-scenario"], 1, "a bad scenario"),
+        (&["simulate", "--robots", "2", "--out", unwritable], 1, "unwritable output"),
+        (&["run", "--no-such-flag"], 2, "an unknown flag"),
+        (&["simulate", "--algorithm", "no-such-algorithm"], 2, "algorithm"),
+        (&["run", "--algorithm", "lfp"], 2, "an algorithm `run` cannot run"),
+        (&["run", "--robots", "0"], 2, "a value out of range"),
+        (&["experiment", "scale", "--robots", "4097"], 2, "a value out of range"),
+        (&["run", "--loss", "1.5"], 2, "a value out of range"),
+        (&["simulate", "--robots", "3", "--kill", "3@2"], 2, "faults that do not fit the run"),
+        (&["run", "--transport", "zenoh", "--remote-agents", "k", "--kill", "1@2"], 2, "faults with `--remote-agents`"),
+        (&["run", "--listen", "tcp/127.0.0.1:7447"], 2, "zenoh's flags without `--transport zenoh`"),
+        (&["run", "--transport", "zenoh", "--remote-agents", "a/b"], 2, "a bad run key or endpoint"),
+        (&["run", "--transport", "zenoh", "--listen", "garbage"], 2, "a bad run key or endpoint"),
+        (&["simulate", "--robots", "3", "--seed", "2", "--max-rounds", "2"], 3, "the search ended incomplete"),
+        (&["check", "random:5,break=3.1.2"], 3, "`check` found a failing assumption"),
     ];
-    for &(args, want) in cases {
+    for &(args, want, words) in cases {
+        assert!(row(want).contains(words), "README's row {want} does not say {words:?}: {}", row(want));
         let (code, out) = status(args);
-        assert_eq!(code, Some(want), "{args:?}: {}", text(&out.stderr));
-        assert!(text(&out.stderr).starts_with("error: "), "{args:?}: {}", text(&out.stderr));
+        let err = text(&out.stderr);
+        assert_eq!(code, Some(want), "{args:?}: {err}");
+        if want == 1 || want == 2 {
+            assert!(err.starts_with("error: "), "{args:?}: {err}");
+            // No debug dump of a library's error, naming its source files.
+            assert!(!err.contains(".cargo/registry") && !err.contains("Err("), "{args:?}: {err}");
+        }
     }
 }
 
@@ -98,4 +128,37 @@ fn an_agent_that_fails_at_start_ends_the_run_at_once_with_its_error() {
     // Not the world's hello time-out (30 s).
     assert!(took < Duration::from_secs(10), "took {took:?}");
     assert_no_leftovers(&prefixes);
+}
+
+/// Issue 23: an agent that exits, even with status 0, or dies before its
+/// hello ended the run only at the world's hello time-out (30 s). It ends
+/// the run at once, with its exit status.
+#[test]
+fn an_agent_that_dies_before_its_hello_ends_the_run_at_once_with_its_status() {
+    let _s = serial();
+    let bin = scratch("dying-agent");
+    let agent = bin.join("agent");
+    fs::write(&agent, "#!/bin/sh\nif [ \"$1\" = --list-rules ]; then echo repulsive; exit 0; fi\nkill -9 $$\n")
+        .unwrap();
+    fs::set_permissions(&agent, fs::Permissions::from_mode(0o755)).unwrap();
+    for (program, status) in [(agent.as_path(), "(signal 9)"), (std::path::Path::new("/bin/true"), "(exit status 0)")] {
+        let t = Instant::now();
+        let child = gridswarm()
+            .args(["run", "--robots", "3", "--agent-bin"])
+            .arg(program)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let prefixes = format!("gs{}x", child.id());
+        let out = child.wait_with_output().unwrap();
+        let took = t.elapsed();
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{program:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "one line: {err}");
+        assert!(err.starts_with("error: robot-agent ") && err.contains(&format!("failed at start {status}")), "{err}");
+        // Well before the world's hello time-out (30 s), on a busy machine.
+        assert!(took < Duration::from_secs(20), "{program:?}: took {took:?}");
+        assert_no_leftovers(&prefixes);
+    }
 }

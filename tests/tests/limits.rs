@@ -225,3 +225,40 @@ fn a_wake_up_that_cannot_be_delivered_ends_the_run_with_a_message() {
     }
     panic!("the world never ran short of descriptors: {seen:?}");
 }
+
+/// Issue 23: a full `/dev/shm` killed the world with SIGBUS, and the run's
+/// error did not mention shared memory. In a mount namespace of its own
+/// (root, as CI), the run gets a `/dev/shm` of 16 KiB (the world's first
+/// pages do not fit: SIGBUS) or 256 KiB (a service's file does not fit);
+/// either way the one error line says that `/dev/shm` ran out, and the
+/// machine's own `/dev/shm` is never touched.
+#[test]
+fn a_full_dev_shm_is_named_in_the_error() {
+    if !as_root("a_full_dev_shm_is_named_in_the_error", "no mount namespace with a small /dev/shm") {
+        return;
+    }
+    let _s = serial();
+    for (size, robots, says) in
+        [("16k", "13", "SIGBUS: the run's shared memory in /dev/shm"), ("256k", "200", "/dev/shm")]
+    {
+        let script = format!(
+            "mount -t tmpfs -o size={size} tmpfs /dev/shm && exec \"$0\" run --scenario large --seed 1 --robots {robots}"
+        );
+        let child = Command::new("unshare")
+            .args(["--mount", "--propagation", "private", "sh", "-c", &script])
+            .arg(bin_dir().join("gridswarm"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("unshare runs");
+        // unshare and sh exec: the pid is gridswarm's.
+        let prefixes = format!("gs{}x", child.id());
+        let out = child.wait_with_output().unwrap();
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{size}: {err}");
+        assert_eq!(err.lines().count(), 1, "{size}: one line: {err}");
+        assert!(err.starts_with("error: world-server ") && err.contains(says), "{size}: {err}");
+        assert!(err.contains(&format!("free of {} KiB", size.trim_end_matches('k'))), "{size}: {err}");
+        assert_no_leftovers(&prefixes);
+    }
+}

@@ -293,7 +293,7 @@ fn a_root_folder_another_user_owns_is_refused_naming_folder_and_owner() {
     let config = gridswarm::ipc::config(&prefix).unwrap();
     let err = gridswarm::ipc::create_node(&config, "world").expect_err("a foreign root is refused");
     assert!(err.contains(&root.display().to_string()) && err.contains(&format!("uid {OTHER_UID}")), "{err}");
-    assert!(gridswarm::ipc::run_files(&prefix, &root).is_empty(), "nothing was made in it");
+    assert!(gridswarm::ipc::run_files(&prefix).is_empty(), "nothing was made in it");
 
     // A temporary folder of the other user's: the whole run stops at once,
     // naming it and its owner.
@@ -321,7 +321,118 @@ struct RunGone(String);
 impl Drop for RunGone {
     fn drop(&mut self) {
         let root = gridswarm::ipc::run_root(&self.0);
-        let _ = gridswarm::ipc::cleanup_run(&self.0, &root);
+        let _ = gridswarm::ipc::cleanup_run(&self.0);
         let _ = fs::remove_dir_all(&root);
     }
+}
+
+/// A prefix whose owner is surely dead: no pid reaches this (`pid_max` is
+/// at most 2^22), so the sweep of dead runs looks at everything under it.
+fn dead_prefix(nonce: u32) -> String {
+    format!("gs{}x{nonce:x}_", u32::MAX - 9)
+}
+
+/// `sh -c SCRIPT` as the other user; it must succeed.
+fn as_other_sh(script: &str) {
+    let out = as_other_user(Path::new("/bin/sh")).args(["-c", script]).output().expect("setpriv runs");
+    assert!(out.status.success(), "`{script}` as uid {OTHER_UID} failed: {}", text(&out.stderr));
+}
+
+/// Entries the test put in `/dev/shm`, removed when dropped (as root),
+/// also when the test fails.
+struct Litter(Vec<PathBuf>);
+
+impl Drop for Litter {
+    fn drop(&mut self) {
+        for p in &self.0 {
+            let _ = fs::remove_file(p).or_else(|_| fs::remove_dir_all(p));
+        }
+    }
+}
+
+/// How many entries `dir` holds.
+fn count(dir: &Path) -> usize {
+    fs::read_dir(dir).map(|d| d.count()).unwrap_or(0)
+}
+
+/// Issue 23: the other user names a symlink after a dead run's root folder,
+/// pointing at a folder only root may enter, and puts a folder of their own
+/// under a dead run's name. Root's next run removes nothing of either: the
+/// clean-up never follows a symlink and removes only its own uid's files.
+#[test]
+fn the_clean_up_of_dead_runs_never_follows_a_symlink_or_removes_anothers_files() {
+    if !can_switch_user("the_clean_up_of_dead_runs_never_follows_a_symlink_or_removes_anothers_files") {
+        return;
+    }
+    let _s = serial();
+    let dir = scratch("symlink");
+    let (linked, owned) = (dead_prefix(1), dead_prefix(2));
+    let secret = dir.join("root-only");
+    fs::create_dir_all(secret.join("deep")).unwrap();
+    fs::set_permissions(&secret, fs::Permissions::from_mode(0o700)).unwrap();
+    let precious = [secret.join(format!("{linked}precious")), secret.join("deep").join(format!("{linked}deeper"))];
+    for p in &precious {
+        fs::write(p, b"keep").unwrap();
+    }
+    let link = gridswarm::ipc::run_root(&linked);
+    let file_link = PathBuf::from(format!("/dev/shm/{linked}data"));
+    let theirs = gridswarm::ipc::run_root(&owned);
+    let _litter = Litter(vec![link.clone(), file_link.clone(), theirs.clone()]);
+    as_other_sh(&format!(
+        "ln -s {s} {link} && ln -s {p} {file_link} && mkdir {theirs} && touch {theirs}/{owned}x.service /dev/shm/{owned}y.data",
+        s = secret.display(),
+        p = precious[0].display(),
+        link = link.display(),
+        file_link = file_link.display(),
+        theirs = theirs.display(),
+    ));
+    // A dead run of root's own, which the clean-up does remove.
+    let own = dead_prefix(3);
+    let own_files = [PathBuf::from(format!("/dev/shm/{own}z.data")), gridswarm::ipc::run_root(&own)];
+    let _litter2 = Litter([&own_files[..], &[PathBuf::from(format!("/dev/shm/{owned}y.data"))]].concat());
+    fs::create_dir_all(own_files[1].join("nodes")).unwrap();
+    fs::write(own_files[1].join("nodes").join(format!("{own}n.details")), b"x").unwrap();
+    fs::write(&own_files[0], b"x").unwrap();
+    let v = run_json(&["--robots", "2", "--seed", "1"]);
+    assert_eq!(v["complete"], true);
+    assert_eq!(gridswarm::ipc::run_files(&own), Vec::<PathBuf>::new(), "the dead run of root's own was not removed");
+    for p in &precious {
+        assert_eq!(fs::read(p).ok().as_deref(), Some(&b"keep"[..]), "{} was removed through a symlink", p.display());
+    }
+    for l in [&link, &file_link] {
+        assert!(fs::symlink_metadata(l).is_ok(), "the other user's symlink {} was removed", l.display());
+    }
+    assert!(theirs.join(format!("{owned}x.service")).exists(), "a file in the other user's folder was removed");
+    assert!(Path::new(&format!("/dev/shm/{owned}y.data")).exists(), "the other user's file was removed");
+}
+
+/// Issue 23: the other user fills `/dev/shm` with 2,000 files named like
+/// 2,000 dead runs' and a folder of 20,000 more; the next run started
+/// after 40 s when the clean-up walked every folder once per dead run. It
+/// now lists `/dev/shm` once, never enters another user's folder and
+/// removes none of their files; the start takes well under 20 s (about a
+/// second without the files).
+#[test]
+fn files_another_user_puts_in_dev_shm_neither_stall_a_run_nor_are_removed() {
+    if !can_switch_user("files_another_user_puts_in_dev_shm_neither_stall_a_run_nor_are_removed") {
+        return;
+    }
+    let _s = serial();
+    let head = format!("gs{}x", u32::MAX - 9);
+    let flood = PathBuf::from(format!("/dev/shm/gridswarm-e2e-{}-flood", std::process::id()));
+    let mut litter = Litter(vec![flood.clone()]);
+    litter.0.extend((1..=2000).map(|k| PathBuf::from(format!("/dev/shm/{head}{k:x}_z"))));
+    as_other_sh(&format!(
+        "cd /dev/shm && seq 1 2000 | while read k; do printf '{head}%x_z\\n' $k; done | xargs touch \
+         && mkdir {f} && cd {f} && seq -f '{head}1_%g' 1 20000 | xargs touch",
+        f = flood.display()
+    ));
+    let started = Instant::now();
+    let v = run_json(&["--robots", "2", "--seed", "1"]);
+    let took = started.elapsed();
+    assert_eq!(v["complete"], true);
+    assert_eq!(count(&flood), 20_000, "files in the other user's folder were removed");
+    let top = litter.0[1..].iter().filter(|p| p.exists()).count();
+    assert_eq!(top, 2000, "the other user's files in /dev/shm were removed");
+    assert!(took < Duration::from_secs(20), "the run took {took:?} beside 22,000 files of another user");
 }

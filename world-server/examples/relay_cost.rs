@@ -35,7 +35,7 @@ fn main() -> Result<(), String> {
         }
     }
     drop(node);
-    let _ = ipc::cleanup_run(&prefix, &ipc::root_dir(&config));
+    let _ = ipc::cleanup_run(&prefix);
     Ok(())
 }
 

@@ -12,7 +12,8 @@
 //! `fault K` when the world pauses at fault `K` of the run's schedule, after
 //! which it waits for one line `go` on stdin (the orchestrator signals the
 //! robot's process meanwhile); with `--progress`, `tick K` at the start of
-//! every slot; `done` after the report is written. Errors are one
+//! every slot and `alive` every second while it waits for robots; `done`
+//! after the report is written. Errors are one
 //! `error: ...` line on stderr and exit status 1; usage errors clap's
 //! message and exit status 2. A run whose descriptors the open-file limit
 //! cannot hold is refused before any service exists; a signal ends the
@@ -116,7 +117,6 @@ fn run(args: Args) -> Result<(), String> {
     // Dropped last, after the ports: then nothing of the run is in use.
     let _orphan = signals::end_cleanly_on_signals(signals::Cleanup {
         prefix: args.prefix.clone(),
-        root: ipc::root_dir(&config),
         run_dir: signals::run_dir_of(&args.run, &args.prefix),
     })?;
     let loaded = load(&args.run)?;

@@ -29,13 +29,19 @@ use gridswarm::wire::{self, AgentOutput, Assembler, ByteSlice, ToAgent, ToWorld,
 /// turned out dead.
 type Slot = Option<Option<Output<Rc<[u8]>>>>;
 
+/// How often a waiting world says `alive` (with `--progress`): the
+/// orchestrator ends a run whose world says nothing for 10 s, stopped
+/// (SIGSTOP) or stuck.
+const HEARTBEAT: Duration = Duration::from_secs(1);
+
 /// How long the world waits, and whom it tells about progress.
 pub struct Patience {
     /// Silence after which it checks whether silent robots still exist.
     pub check: Duration,
     /// Silence of a live robot that ends the run.
     pub limit: Duration,
-    /// Print `tick K` at the start of every slot.
+    /// Print `tick K` at the start of every slot, and `alive` every
+    /// [`HEARTBEAT`] while waiting.
     pub progress: bool,
 }
 
@@ -69,6 +75,8 @@ pub struct Remote<'a> {
     pub largest_wake: usize,
     /// The last failure to read a robot's outbox: (robot, error).
     recv_error: Option<(usize, String)>,
+    /// When the world last printed a line to the orchestrator.
+    said: Instant,
 }
 
 impl<'a> Remote<'a> {
@@ -96,7 +104,17 @@ impl<'a> Remote<'a> {
             batches: 0,
             largest_wake: 0,
             recv_error: None,
+            said: Instant::now(),
         }
+    }
+
+    /// `alive` to the orchestrator, if the world said nothing for a [`HEARTBEAT`].
+    fn heartbeat(&mut self) -> Result<(), String> {
+        if self.patience.progress && self.said.elapsed() >= HEARTBEAT {
+            self.said = Instant::now();
+            say("alive")?;
+        }
+        Ok(())
     }
 
     pub fn pids(&self) -> &[u32] {
@@ -121,6 +139,7 @@ impl<'a> Remote<'a> {
             self.woke.clear();
             let mut woke = std::mem::take(&mut self.woke);
             self.ports.wait(Duration::from_millis(50), &mut woke);
+            self.heartbeat()?;
             let n = self.pids.len();
             for &r in woke.iter().filter(|&&r| r < n) {
                 while let Some(m) = self.take(r) {
@@ -228,6 +247,7 @@ impl<'a> Remote<'a> {
             let mut woke = std::mem::take(&mut self.woke);
             woke.clear();
             self.ports.wait(self.patience.check, &mut woke);
+            self.heartbeat()?;
             for &r in &woke {
                 let Ok(k) = calls.binary_search_by_key(&r, |c| c.robot) else { continue };
                 while let Some(m) = self.take(r) {
@@ -366,6 +386,7 @@ impl Robots for Remote<'_> {
         self.slot_start = Some(Instant::now());
         self.paused = Duration::ZERO;
         if self.patience.progress && self.failed.is_none() {
+            self.said = Instant::now();
             if let Err(e) = say(&format!("tick {round}")) {
                 self.failed = Some(e);
             }

@@ -27,7 +27,6 @@ const SIGNALS: [libc::c_int; 4] = [libc::SIGTERM, libc::SIGINT, libc::SIGHUP, li
 #[derive(Clone)]
 pub struct Cleanup {
     pub prefix: String,
-    pub root: PathBuf,
     /// The orchestrator's temporary directory of the run (the run file's
     /// directory, when it has the name the orchestrator gives it).
     pub run_dir: Option<PathBuf>,
@@ -111,7 +110,7 @@ pub fn end_cleanly_on_signals(cleanup: Cleanup) -> Result<Orphan, String> {
 }
 
 fn remove(c: &Cleanup, orphaned: bool) {
-    let _ = ipc::cleanup_run(&c.prefix, &c.root);
+    let _ = ipc::cleanup_run(&c.prefix);
     if let (true, Some(dir)) = (orphaned, &c.run_dir) {
         let _ = std::fs::remove_dir_all(dir);
     }

@@ -36,7 +36,7 @@ pub fn check(scenario_name: &str) -> Result<CheckOutcome> {
     let _ = writeln!(
         text,
         "scenario {}: {} grid, a = {} m, {} targets, {} obstacles, {} robots, situation {}",
-        scenario.name,
+        crate::output::shown(&scenario.name),
         scenario.grid.name(),
         p.a,
         scenario.targets.len(),

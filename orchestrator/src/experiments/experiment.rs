@@ -181,7 +181,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     let setup = format!(
         "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {}, max {} rounds\n\
          {maps_line}params: {}\nlfp: {}\n",
-        scenario.name,
+        output::shown(&scenario.name),
         scenario.grid.name(),
         scenario.situation.number(),
         opts.runs,
@@ -224,11 +224,11 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             format!(
                 "{} random maps from {}: mean search time of {} runs",
                 maps.len(),
-                scenario.name,
+                output::shown(&scenario.name),
                 opts.runs * maps.len() as u32
             )
         } else {
-            format!("{}: mean search time of {} runs", scenario.name, opts.runs)
+            format!("{}: mean search time of {} runs", output::shown(&scenario.name), opts.runs)
         };
         let svg = plot::fig7_svg(&cells, &algorithms, &title)
             .map_err(|message| Error::Plot { path: fig_path.clone(), message })?;
@@ -346,7 +346,7 @@ pub fn ratio_to(oracle: &BTreeMap<usize, f64>, c: &CellStats) -> Option<f64> {
 fn short_setup(scenario: &Scenario, opts: &ExperimentOptions, maps: usize) -> String {
     format!(
         "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {} (parameters in summary.json)\n",
-        scenario.name,
+        output::shown(&scenario.name),
         scenario.grid.name(),
         scenario.situation.number(),
         opts.runs,

@@ -294,7 +294,7 @@ impl Page<'_> {
         let files =
             [("failures.csv", "the results table"), ("failures-runs.csv", "every run"), ("failures.svg", "the figure")];
         Report {
-            title: format!("Failures: {} scenario, {} robots", self.scenario.name, self.robots),
+            title: format!("Failures: {} scenario, {} robots", crate::output::shown(&self.scenario.name), self.robots),
             subtitle: format!(
                 "{} killed, {} runs each, base seed {}; {} runs in {:.1} s wall time ({})",
                 crate::robots::compress(&self.opts.killed).replace('-', "–"),
@@ -328,7 +328,7 @@ impl Page<'_> {
         format!(
             "failures: scenario {}, {} robots, algorithm {}, {} runs per count, base seed {}, engine {}\n{}\n\
              {} runs in {:.1} s; wrote failures.csv, failures-runs.csv, failures.svg, report.html in {}\n",
-            self.scenario.name,
+            crate::output::shown(&self.scenario.name),
             self.robots,
             self.opts.protocol.algorithm,
             self.runs_per,

@@ -82,7 +82,11 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
     let mut text = format!(
         "scenario {}: a = {} m, r_safe = {} m, r_st = {} m, start vertices of {} robots as the scenario \
          places them; raster cell {h} m\n",
-        base.name, p.a, p.r_safe, p.r_st, base.robots
+        crate::output::shown(&base.name),
+        p.a,
+        p.r_safe,
+        p.r_st,
+        base.robots
     );
     let _ = writeln!(
         text,
@@ -147,7 +151,7 @@ fn grids_report(base: &Scenario, h: f64, rows: &[GridRow], text: &str, pictures:
     ];
     params.extend(report::params_of("params", &serde_json::to_value(base.params).expect("params serialise")));
     Report {
-        title: format!("Lattice comparison (Sec. 3): {} scenario", base.name),
+        title: format!("Lattice comparison (Sec. 3): {} scenario", crate::output::shown(&base.name)),
         subtitle: "How much of Ad is detected once every vertex of Va is visited, on each lattice at the same a".into(),
         sections: vec![
             Section::new("Detected fraction by lattice", vec![Block::Table(table)]),

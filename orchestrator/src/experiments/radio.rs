@@ -335,7 +335,7 @@ impl Page<'_> {
     fn report(&self, svg: String) -> Report {
         let files = [("radio.csv", "the results table"), ("radio-runs.csv", "every run"), ("radio.svg", "the figure")];
         Report {
-            title: format!("Radio loss: {} scenario", self.scenario.name),
+            title: format!("Radio loss: {} scenario", crate::output::shown(&self.scenario.name)),
             subtitle: format!(
                 "{} points, {} runs each, base seed {}; {} runs in {:.1} s wall time ({})",
                 self.rows.len(),
@@ -369,7 +369,7 @@ impl Page<'_> {
         format!(
             "radio: scenario {}, algorithm {}, {} runs per point, base seed {}, engine {}\n{}\n\
              {} runs in {:.1} s; wrote radio.csv, radio-runs.csv, radio.svg, report.html in {}\n",
-            self.scenario.name,
+            crate::output::shown(&self.scenario.name),
             self.opts.protocol.algorithm,
             self.runs_per,
             self.opts.protocol.seed,

@@ -354,19 +354,19 @@ fn time_in_process(
 /// Runs the experiment; returns the rows and the text for stdout.
 pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
     if opts.runs == 0 {
-        return Err(Error::Input("--runs must be at least 1".into()));
+        return Err(Error::Usage("--runs must be at least 1".into()));
     }
     if opts.robots.is_empty() {
-        return Err(Error::Input("--robots needs at least one count".into()));
+        return Err(Error::Usage("--robots needs at least one count".into()));
     }
     if !opts.algorithm.on_grid() {
-        return Err(Error::Input(format!(
+        return Err(Error::Usage(format!(
             "`experiment scale` runs one process per robot on the grid; `{}` moves off the grid",
             opts.algorithm
         )));
     }
     if let Some(&n) = opts.robots.iter().find(|&&n| n == 0 || n > gridswarm::ipc::MAX_ROBOTS) {
-        return Err(Error::Input(format!("robots must be in 1..={}, got {n}", gridswarm::ipc::MAX_ROBOTS)));
+        return Err(Error::Usage(format!("--robots must be in 1..={}, got {n}", gridswarm::ipc::MAX_ROBOTS)));
     }
     crate::run::admit(opts.robots.iter().copied().max().unwrap_or(1))?;
     // Every scenario loaded and every count placed before the first run.

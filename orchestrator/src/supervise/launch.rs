@@ -3,6 +3,13 @@
 //! SIGTERM, SIGHUP (a closed terminal) and SIGQUIT into an event, and
 //! reading the world-server's stdout lines.
 //!
+//! Signals are handled from the first line of `main` ([`handle_signals`])
+//! to the last write: during a run they are events of its loop, which ends
+//! the children first ([`forward_signals`]); at any other moment (setup,
+//! checks, an in-process run, writing the outputs) the signal thread
+//! removes the command's unfinished folders ([`remove_on_interrupt`]) and
+//! exits 1 with one line naming the signal.
+//!
 //! Every child gets `PR_SET_PDEATHSIG` (it dies with the thread that
 //! spawned it: always the main thread here) and its own process group,
 //! so a Ctrl-C at the terminal reaches only the orchestrator, which then
@@ -12,7 +19,7 @@
 
 use std::io::{BufRead, BufReader};
 use std::os::unix::process::CommandExt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdout, Command};
 use std::sync::mpsc::Sender;
 use std::sync::{Mutex, OnceLock};
@@ -112,6 +119,52 @@ static SIGNAL_PIPE: OnceLock<i32> = OnceLock::new();
 /// Where the signal thread sends: the current run's channel (one process
 /// may do many runs, e.g. `experiment failures`).
 static SIGNAL_TX: Mutex<Option<Sender<Event>>> = Mutex::new(None);
+/// Folders a signal outside a run removes before the command exits: the
+/// unfinished output folder, the run's temporary folder. Held while a
+/// folder is renamed into place, so a signal never cuts that in two.
+static UNFINISHED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// A signal outside a run removes `dir` (until [`finished`]).
+pub fn remove_on_interrupt(dir: &Path) {
+    UNFINISHED.lock().unwrap_or_else(|e| e.into_inner()).push(dir.to_path_buf());
+}
+
+/// `dir` is done with (renamed into place, or removed): a signal leaves it.
+pub fn finished(dir: &Path) {
+    UNFINISHED.lock().unwrap_or_else(|e| e.into_inner()).retain(|d| d != dir);
+}
+
+/// Runs `f` (renaming folders into place) with signals held off: the
+/// command ends after it, never in the middle. `f` must not call
+/// [`remove_on_interrupt`] or [`finished`].
+pub fn uninterrupted<T>(f: impl FnOnce() -> T) -> T {
+    let _held = UNFINISHED.lock().unwrap_or_else(|e| e.into_inner());
+    f()
+}
+
+/// The end of a command a signal reached outside a run: its unfinished
+/// folders removed, one line, exit status 1 (README's table).
+fn exit_interrupted(sig: i32) -> ! {
+    // Held until the exit: no folder is renamed into place meanwhile.
+    let dirs = UNFINISHED.lock().unwrap_or_else(|e| e.into_inner());
+    for d in dirs.iter() {
+        let _ = std::fs::remove_dir_all(d);
+    }
+    eprintln!("error: interrupted by {}", signal_name(sig));
+    // SAFETY: _exit ends the process at once; the main thread may be
+    // anywhere, and no destructor of its must run after the removals.
+    unsafe { libc::_exit(1) }
+}
+
+/// Delivers signal `sig` to the current run, or ends the command.
+fn deliver(sig: i32) {
+    if let Some(tx) = SIGNAL_TX.lock().unwrap_or_else(|e| e.into_inner()).as_ref() {
+        if tx.send(Event::Signal(sig)).is_ok() {
+            return;
+        }
+    }
+    exit_interrupted(sig)
+}
 
 extern "C" fn on_signal(sig: libc::c_int) {
     if let Some(&fd) = SIGNAL_PIPE.get() {
@@ -123,11 +176,17 @@ extern "C" fn on_signal(sig: libc::c_int) {
     }
 }
 
-/// Turns [`SIGNALS`] into [`Event::Signal`] on `tx` (a self-pipe
-/// read by a thread) until [`default_signals`]. A later call (the next run
-/// in the same process) redirects the events to its own `tx`.
+/// Turns [`SIGNALS`] into [`Event::Signal`] on `tx` until
+/// [`default_signals`]. A later call (the next run in the same process)
+/// redirects the events to its own `tx`.
 pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
     *SIGNAL_TX.lock().unwrap_or_else(|e| e.into_inner()) = Some(tx);
+    handle_signals()
+}
+
+/// Catches [`SIGNALS`] (a self-pipe read by a thread): outside a run they
+/// end the command cleanly ([`exit_interrupted`]). `main` calls it first.
+pub fn handle_signals() -> Result<(), String> {
     if SIGNAL_PIPE.get().is_none() {
         let mut fds = [0i32; 2];
         // SAFETY: pipe2 with a valid array; close-on-exec so children never hold it.
@@ -155,9 +214,7 @@ pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
                 // SAFETY: read(2) into a local byte.
                 let n = unsafe { libc::read(read_fd, &mut b as *mut u8 as *mut libc::c_void, 1) };
                 if n == 1 {
-                    if let Some(tx) = SIGNAL_TX.lock().unwrap_or_else(|e| e.into_inner()).as_ref() {
-                        let _ = tx.send(Event::Signal(b as i32));
-                    }
+                    deliver(b as i32);
                 } else if n < 0 && std::io::Error::last_os_error().kind() == std::io::ErrorKind::Interrupted {
                     continue;
                 } else {
@@ -181,15 +238,11 @@ pub fn forward_signals(tx: Sender<Event>) -> Result<(), String> {
     Ok(())
 }
 
-/// Gives [`SIGNALS`] their default action back (once the run's children
-/// are gone there is nothing left to end first).
+/// Ends the forwarding to the run (once the run's children are gone there
+/// is nothing left to end first): a signal now ends the command itself,
+/// its unfinished folders removed.
 pub fn default_signals() {
-    for sig in SIGNALS {
-        // SAFETY: restoring the default disposition.
-        unsafe {
-            libc::signal(sig, libc::SIG_DFL);
-        }
-    }
+    *SIGNAL_TX.lock().unwrap_or_else(|e| e.into_inner()) = None;
 }
 
 /// Kills (SIGKILL) and reaps every child still running; returns how many it had to kill.

@@ -13,6 +13,17 @@ use serde_json::{json, Value};
 
 use crate::error::{Error, Result};
 
+/// `s` for a terminal or a page's title: every control character (an
+/// escape sequence, a newline that would fake an `error:` line) escaped as
+/// `\u{1b}`, `\n`, ... A scenario's name is the user's text; the JSON
+/// files keep it as it is (JSON escapes it itself).
+pub fn shown(s: &str) -> std::borrow::Cow<'_, str> {
+    if !s.chars().any(char::is_control) {
+        return s.into();
+    }
+    s.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
+}
+
 /// Fixed-precision float for files meant to be compared byte for byte.
 /// Negative zero is written as zero: two engines may reach the same
 /// position by different float paths, and only the sign of zero differs.
@@ -116,7 +127,7 @@ pub fn headline(scenario: &Scenario, result: &RunResult, engine: &str, extra: &s
     let mut s = format!(
         "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}{engine}\n\
          {how} ({}: {}) after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; {extra}coverage {}\n",
-        scenario.name,
+        shown(&scenario.name),
         scenario.grid.name(),
         result.algorithm.name(),
         result.algorithm.paper_label(),

@@ -218,7 +218,7 @@ impl RunRecord<'_> {
         let r = self.result;
         format!(
             "{}: {} ({}), {} robots, seed {}: {} rounds, {:.1} s, {}/{} targets",
-            self.scenario.name,
+            crate::output::shown(&self.scenario.name),
             r.algorithm.name(),
             r.algorithm.paper_label(),
             r.robots,

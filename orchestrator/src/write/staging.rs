@@ -68,6 +68,7 @@ impl Staging {
         };
         check_replaceable(target)?;
         fs::create_dir_all(&parent).map_err(|source| Error::OutDir { path: parent.clone(), source })?;
+        sweep_dead(&parent, &name.to_string_lossy());
         let stem = format!(".{}.tmp-{}", name.to_string_lossy(), std::process::id());
         let dir = (0..1000)
             .map(|k| parent.join(format!("{stem}-{k}")))
@@ -78,6 +79,7 @@ impl Staging {
                     .err()
                     .unwrap_or_else(|| std::io::Error::other("no free name")),
             })?;
+        crate::launch::remove_on_interrupt(&dir);
         let s = Staging { target: target.to_path_buf(), dir, done: false };
         fs::write(s.dir.join(MARKER), "written by gridswarm; this folder is replaced whole by the next run\n")
             .map_err(|source| Error::Write { path: s.dir.join(MARKER), source })?;
@@ -97,6 +99,14 @@ impl Staging {
     /// Puts the staged files in place of `target`, whose old contents are
     /// removed only once the new ones are there.
     pub fn commit(mut self) -> Result<()> {
+        // A signal meanwhile ends the command after the renames, not between them.
+        crate::launch::uninterrupted(|| self.put_in_place())?;
+        // Renamed into place: a signal now has nothing to remove.
+        crate::launch::finished(&self.dir);
+        Ok(())
+    }
+
+    fn put_in_place(&mut self) -> Result<()> {
         check_replaceable(&self.target)?;
         let old = self.dir.with_extension("old");
         let had_old = self.target.exists();
@@ -121,8 +131,46 @@ impl Drop for Staging {
     fn drop(&mut self) {
         if !self.done {
             let _ = fs::remove_dir_all(&self.dir);
+            crate::launch::finished(&self.dir);
         }
     }
+}
+
+/// Removes the staging folders (and their `.old` twins) that a command
+/// writing to `parent/name` left when it was killed with `kill -9`, which
+/// no handler sees: `.<name>.tmp-<pid>-<k>[.old]` whose process is gone,
+/// a real folder of this uid (never through a symlink) that gridswarm
+/// wrote ([`is_ours`]). A folder of a live process, of another user or
+/// holding anything else is left alone.
+fn sweep_dead(parent: &Path, name: &str) {
+    let head = format!(".{name}.tmp-");
+    let Ok(entries) = fs::read_dir(parent) else { return };
+    for e in entries.flatten() {
+        let file = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = file.strip_prefix(&head).and_then(staging_pid) else { continue };
+        let path = e.path();
+        let dead = pid != std::process::id() && !gridswarm::ipc::pid_alive(pid);
+        if dead && gridswarm::ipc::is_own_folder(&path) && is_ours(&path) {
+            let _ = fs::remove_dir_all(&path);
+        }
+    }
+}
+
+/// The pid of a staging folder's name after `.<name>.tmp-`: `<pid>-<k>` or `<pid>-<k>.old`.
+fn staging_pid(rest: &str) -> Option<u32> {
+    let (pid, k) = rest.split_once('-')?;
+    let k = k.strip_suffix(".old").unwrap_or(k);
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    (digits(pid) && digits(k)).then(|| pid.parse().ok()).flatten()
+}
+
+/// A folder gridswarm wrote: it holds [`MARKER`], or only files gridswarm
+/// writes (none at all included).
+fn is_ours(dir: &Path) -> bool {
+    let ours =
+        |e: &fs::DirEntry| e.file_type().is_ok_and(|t| t.is_file()) && OUR_FILES.iter().any(|f| e.file_name() == *f);
+    let only_ours = fs::read_dir(dir).map(|d| d.flatten().all(|e| ours(&e))).unwrap_or(false);
+    only_ours || fs::symlink_metadata(dir.join(MARKER)).is_ok_and(|m| m.is_file())
 }
 
 /// `target` is missing, an empty folder, or a folder gridswarm wrote.
@@ -131,10 +179,7 @@ fn check_replaceable(target: &Path) -> Result<()> {
     if !meta.is_dir() {
         return Err(Error::Input(format!("--out `{}` exists and is not a folder", target.display())));
     }
-    let ours =
-        |e: &fs::DirEntry| e.file_type().is_ok_and(|t| t.is_file()) && OUR_FILES.iter().any(|f| e.file_name() == *f);
-    let only_ours = fs::read_dir(target).map(|d| d.flatten().all(|e| ours(&e))).unwrap_or(false);
-    if only_ours || target.join(MARKER).is_file() {
+    if is_ours(target) {
         return Ok(());
     }
     Err(Error::Input(format!(
@@ -218,6 +263,36 @@ mod tests {
         fs::create_dir_all(&empty).unwrap();
         Staging::begin(&empty).unwrap().commit().unwrap();
         assert!(empty.join(MARKER).is_file());
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    /// Issue 23: a `kill -9`'d command's staging folders go with the next
+    /// command into the same place; a live one's, or one holding a file
+    /// gridswarm did not write, stay.
+    #[test]
+    fn a_killed_commands_staging_folders_go_with_the_next_command() {
+        let d = scratch("killed");
+        let out = d.join("out");
+        let dead = u32::MAX - 9;
+        let mk = |name: &str, file: &str| {
+            let p = d.join(name);
+            fs::create_dir_all(&p).unwrap();
+            fs::write(p.join(file), "x").unwrap();
+        };
+        mk(&format!(".out.tmp-{dead}-0"), MARKER);
+        mk(&format!(".out.tmp-{dead}-0.old"), "results.csv");
+        mk(&format!(".out.tmp-{dead}-1"), "thesis.tex");
+        mk(&format!(".out.tmp-{}-7", std::process::id()), MARKER);
+        mk(&format!(".other.tmp-{dead}-0"), MARKER);
+        Staging::begin(&out).unwrap().commit().unwrap();
+        let mut want = [
+            format!(".other.tmp-{dead}-0"),
+            format!(".out.tmp-{dead}-1"),
+            format!(".out.tmp-{}-7", std::process::id()),
+            "out".to_string(),
+        ];
+        want.sort();
+        assert_eq!(names(&d), want);
         fs::remove_dir_all(&d).unwrap();
     }
 

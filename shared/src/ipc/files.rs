@@ -1,140 +1,182 @@
 //! The files of runs on disk: listing them, removing one run's, and
 //! sweeping those of runs whose owner died. A run's files are the POSIX
-//! shared memory under `/dev/shm` whose names start with its prefix, and
-//! its iceoryx2 root folder ([`super::run_root`]).
+//! shared memory directly in `/dev/shm` whose names start with its prefix,
+//! and its iceoryx2 root folder there ([`super::run_root`]).
+//!
+//! `/dev/shm` is everyone's (SECURITY.md): another user can put anything
+//! there under a run's names, a symlink to a folder of root's or a folder
+//! of 20,000 files. So the clean-up lists `/dev/shm` once and never below
+//! it, looks at each entry with `lstat` (a symlink is never followed), and
+//! removes only regular files and real folders named by a run prefix and
+//! owned by this process's uid. In the sticky `/dev/shm` nobody else can
+//! rename or replace an entry of ours between that look and the removal.
 
-use std::fs;
+use std::fs::{self, Metadata};
 use std::io;
+use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 
-use super::{pid_alive, prefix_owner, run_root, PREFIX_HEAD};
+use super::{pid_alive, prefix_owner, PREFIX_HEAD};
 
-/// Where the files of runs live: POSIX shared memory and iceoryx2's root.
-fn file_roots(root: &Path) -> Vec<PathBuf> {
-    vec![PathBuf::from("/dev/shm"), root.to_path_buf()]
+/// Where POSIX shared memory lives, and with it every run's root folder.
+const SHM: &str = "/dev/shm";
+
+/// What a run keeps directly in `/dev/shm`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// A shared-memory file, `<prefix>...`.
+    File,
+    /// The run's iceoryx2 root folder, `gridswarm-<prefix>iceoryx2`.
+    Root,
 }
 
-/// Every file (not directory) under `dir`, recursively, whose name starts with `head`.
-fn files_starting_with(dir: &Path, head: &str, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let path = e.path();
-        let Ok(ft) = e.file_type() else { continue };
-        if ft.is_dir() {
-            files_starting_with(&path, head, out);
-        } else if e.file_name().to_string_lossy().starts_with(head) {
-            out.push(path);
-        }
+/// An entry of `/dev/shm` named by a run prefix.
+struct Entry {
+    prefix: String,
+    path: PathBuf,
+    kind: Kind,
+    meta: Metadata,
+}
+
+impl Entry {
+    /// Made by gridswarm for a run of this uid: a regular file or a real
+    /// folder as its name says (a symlink is neither), owned by this uid.
+    fn ours(&self) -> bool {
+        let shape = match self.kind {
+            Kind::File => self.meta.file_type().is_file(),
+            Kind::Root => self.meta.file_type().is_dir(),
+        };
+        shape && self.meta.uid() == my_uid()
     }
 }
 
-/// Every file of the run with this prefix, under `/dev/shm` and `root`
-/// (iceoryx2's root directory, see [`super::root_dir`]).
-pub fn run_files(prefix: &str, root: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    for r in file_roots(root) {
-        files_starting_with(&r, prefix, &mut out);
-    }
-    out.sort();
-    // The run's root is itself under `/dev/shm`.
-    out.dedup();
-    out
+fn my_uid() -> u32 {
+    // SAFETY: geteuid has no preconditions and cannot fail.
+    unsafe { libc::geteuid() }
 }
 
-/// Removes every file of the run with this prefix from `/dev/shm` and
-/// `root`, and the node directories that held only its files. Returns how
-/// many files it removed. Refuses a prefix [`new_prefix`] could not have
-/// made, so a typo can never remove someone else's files. The run's own
-/// root folder ([`run_root`]) goes as a whole: nothing else lives there.
-pub fn cleanup_run(prefix: &str, root: &Path) -> io::Result<usize> {
-    if prefix_owner(prefix).is_none() {
-        return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("`{prefix}` is not a run prefix")));
+/// The run prefix an entry's name carries, and what kind of entry that name is.
+fn classify(name: &str) -> Option<(&str, Kind)> {
+    if let Some(p) = name.strip_prefix("gridswarm-").and_then(|r| r.strip_suffix("iceoryx2")) {
+        return prefix_owner(p).map(|_| (p, Kind::Root));
     }
-    let files = run_files(prefix, root);
-    let mut removed = 0;
-    let mut dirs = Vec::new();
-    for f in &files {
-        match fs::remove_file(f) {
-            Ok(()) => removed += 1,
-            Err(e) if e.kind() == io::ErrorKind::NotFound => {}
-            Err(e) => return Err(e),
-        }
-        if let Some(d) = f.parent() {
-            dirs.push(d.to_path_buf());
-        }
-    }
-    // A node's details live in a directory named by its id; once the
-    // run's files are gone it is empty. `remove_dir` fails on a directory
-    // that still holds anything, so nothing of another run is touched.
-    dirs.sort();
-    dirs.dedup();
-    for d in dirs {
-        if d.starts_with(root.join("nodes")) && d != root.join("nodes") {
-            let _ = fs::remove_dir(&d);
-        }
-    }
-    if root == run_root(prefix) {
-        match fs::remove_dir_all(root) {
-            Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
-            _ => {}
-        }
-    }
-    Ok(removed)
+    let p = &name[..=name.find('_')?];
+    prefix_owner(p).map(|_| (p, Kind::File))
 }
 
-/// The prefixes of runs that have files under `/dev/shm` or `root`.
-pub fn run_prefixes(root: &Path) -> Vec<String> {
-    let mut files = Vec::new();
-    for r in file_roots(root) {
-        files_starting_with(&r, PREFIX_HEAD, &mut files);
-    }
-    let mut prefixes: Vec<String> = files
-        .iter()
-        .filter_map(|f| {
-            let name = f.file_name()?.to_string_lossy().into_owned();
-            let end = name.find('_')?;
-            let p = &name[..=end];
-            prefix_owner(p).map(|_| p.to_string())
-        })
-        .collect();
-    // A root folder whose files are already gone.
-    prefixes.extend(root_folder_prefixes());
-    prefixes.sort();
-    prefixes.dedup();
-    prefixes
-}
-
-/// The prefixes of the run root folders ([`run_root`]) in `/dev/shm`.
-fn root_folder_prefixes() -> Vec<String> {
-    let Ok(entries) = fs::read_dir("/dev/shm") else { return Vec::new() };
-    entries
-        .flatten()
+/// The entries directly in `/dev/shm` named by a run prefix that `keep`
+/// accepts, each looked at with `lstat`. One listing, never below it: what
+/// others put in their own folders costs nothing, and an entry of theirs
+/// costs one `lstat` only if its name has a run prefix's shape.
+fn shm_entries(keep: impl Fn(&str) -> bool) -> Vec<Entry> {
+    let Ok(dir) = fs::read_dir(SHM) else { return Vec::new() };
+    dir.flatten()
         .filter_map(|e| {
-            let name = e.file_name().to_string_lossy().into_owned();
-            let p = name.strip_prefix("gridswarm-")?.strip_suffix("iceoryx2")?;
-            (prefix_owner(p).is_some() && run_root(p) == e.path()).then(|| p.to_string())
+            let name = e.file_name();
+            let (prefix, kind) = classify(name.to_str()?)?;
+            if !keep(prefix) {
+                return None;
+            }
+            // DirEntry::metadata does not follow a symlink.
+            let meta = e.metadata().ok()?;
+            Some(Entry { prefix: prefix.to_string(), path: e.path(), kind, meta })
         })
         .collect()
 }
 
-/// Removes the files of every run whose owning process (the pid in its
-/// prefix) is gone: what a SIGKILLed orchestrator left behind, its root
-/// folder included. Returns the prefixes swept.
-pub fn sweep_stale(root: &Path) -> Vec<String> {
-    let mut swept = Vec::new();
-    for p in run_prefixes(root) {
-        let owner = prefix_owner(&p).expect("run_prefixes keeps run prefixes only");
-        if owner != std::process::id() && !pid_alive(owner) && cleanup_run(&p, &run_root(&p)).is_ok() {
-            swept.push(p);
+/// Every regular file under `dir`, recursively, without following a symlink.
+fn files_under(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = fs::read_dir(dir) else { return };
+    for e in entries.flatten() {
+        match e.file_type() {
+            Ok(t) if t.is_dir() => files_under(&e.path(), out),
+            Ok(_) => out.push(e.path()),
+            Err(_) => {}
         }
     }
-    swept
+}
+
+/// Every file of the run with this prefix, whoever owns it: the entries
+/// in `/dev/shm` named by it (a symlink among them is listed, not followed)
+/// and the files in its root folder, if that is a real folder.
+pub fn run_files(prefix: &str) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for e in shm_entries(|p| p == prefix) {
+        match e.kind {
+            Kind::Root if e.meta.file_type().is_dir() => files_under(&e.path, &mut out),
+            _ => out.push(e.path),
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Removes one entry of ours; returns how many files went with it. The
+/// root folder is this uid's and mode 0700 ([`super::private`]), so nobody
+/// else put anything in it; `remove_dir_all` does not follow symlinks.
+fn remove(e: &Entry) -> io::Result<usize> {
+    let gone = match e.kind {
+        Kind::File => fs::remove_file(&e.path).map(|()| 1),
+        Kind::Root => {
+            let mut files = Vec::new();
+            files_under(&e.path, &mut files);
+            fs::remove_dir_all(&e.path).map(|()| files.len())
+        }
+    };
+    match gone {
+        Err(err) if err.kind() == io::ErrorKind::NotFound => Ok(0),
+        other => other,
+    }
+}
+
+/// Removes every file of the run with this prefix that this uid made:
+/// its shared-memory files in `/dev/shm` and its root folder as a whole.
+/// Returns how many files it removed. Refuses a prefix [`new_prefix`]
+/// could not have made, so a typo can never remove someone else's files;
+/// leaves whatever another user put under the run's names.
+///
+/// [`new_prefix`]: super::new_prefix
+pub fn cleanup_run(prefix: &str) -> io::Result<usize> {
+    if prefix_owner(prefix).is_none() {
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, format!("`{prefix}` is not a run prefix")));
+    }
+    let mut removed = 0;
+    for e in shm_entries(|p| p == prefix).iter().filter(|e| e.ours()) {
+        removed += remove(e)?;
+    }
+    Ok(removed)
+}
+
+/// Removes the files of every run of this uid whose owning process (the
+/// pid in its prefix) is gone: what a SIGKILLed orchestrator left behind,
+/// its root folder included. One listing of `/dev/shm` for all of them.
+/// Returns the prefixes swept.
+pub fn sweep_stale() -> Vec<String> {
+    let me = std::process::id();
+    let mut dead = std::collections::BTreeMap::<String, bool>::new();
+    let mut swept = std::collections::BTreeSet::new();
+    for e in shm_entries(|p| p.starts_with(PREFIX_HEAD)).iter().filter(|e| e.ours()) {
+        let is_dead = *dead.entry(e.prefix.clone()).or_insert_with(|| {
+            let owner = prefix_owner(&e.prefix).expect("classify keeps run prefixes only");
+            owner != me && !pid_alive(owner)
+        });
+        if is_dead && remove(e).is_ok() {
+            swept.insert(e.prefix.clone());
+        }
+    }
+    swept.into_iter().collect()
+}
+
+/// Whether `path` is a folder this uid made, looked at without following
+/// a symlink: what the orchestrator may remove of a dead run's temporary
+/// folder in a directory others can write to.
+pub fn is_own_folder(path: &Path) -> bool {
+    fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_dir() && m.uid() == my_uid())
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::run_root;
     use super::*;
 
     /// Held by the tests that sweep: a sweep removes every dead run's root
@@ -143,27 +185,34 @@ mod tests {
     /// not be made, its parent gone).
     static SWEEPING: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
+    /// The root folder of the run with this prefix, made by hand.
+    fn make_root(prefix: &str) -> PathBuf {
+        let root = run_root(prefix);
+        fs::create_dir_all(root.join("nodes").join("1234")).unwrap();
+        root
+    }
+
     #[test]
     fn cleanup_removes_only_its_run() {
         let _sweeping = SWEEPING.lock().unwrap_or_else(|e| e.into_inner());
-        let dir = std::env::temp_dir().join(format!("gs-ipc-test-{}", std::process::id()));
-        let nodes = dir.join("nodes").join("1234");
-        fs::create_dir_all(&nodes).unwrap();
         let mine = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0xabc);
         let other = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0xdef);
-        fs::write(dir.join(format!("{mine}a.service")), b"x").unwrap();
-        fs::write(nodes.join(format!("{mine}b.details")), b"x").unwrap();
-        fs::write(dir.join(format!("{other}c.service")), b"x").unwrap();
-        assert_eq!(run_files(&mine, &dir).len(), 2);
-        assert_eq!(cleanup_run(&mine, &dir).unwrap(), 2);
-        assert!(run_files(&mine, &dir).is_empty());
-        assert!(!nodes.exists(), "the emptied node directory goes too");
-        assert_eq!(run_files(&other, &dir).len(), 1);
-        assert!(run_prefixes(&dir).contains(&other));
+        let root = make_root(&mine);
+        fs::write(root.join(format!("{mine}a.service")), b"x").unwrap();
+        fs::write(root.join("nodes/1234").join(format!("{mine}b.details")), b"x").unwrap();
+        let shm = Path::new(SHM).join(format!("{mine}c.data"));
+        let theirs = Path::new(SHM).join(format!("{other}c.data"));
+        fs::write(&shm, b"x").unwrap();
+        fs::write(&theirs, b"x").unwrap();
+        assert_eq!(run_files(&mine).len(), 3);
+        assert_eq!(cleanup_run(&mine).unwrap(), 3);
+        assert!(run_files(&mine).is_empty());
+        assert!(!root.exists(), "the root folder goes as a whole");
+        assert_eq!(run_files(&other), [theirs.clone()]);
         // Its owner (this process) is alive: not stale.
-        assert!(!sweep_stale(&dir).contains(&other));
-        assert!(cleanup_run("iox2_", &dir).is_err());
-        fs::remove_dir_all(&dir).unwrap();
+        assert!(!sweep_stale().contains(&other));
+        assert!(cleanup_run("iox2_").is_err());
+        assert_eq!(cleanup_run(&other).unwrap(), 1);
     }
 
     /// A dead run's root folder in `/dev/shm` goes with the sweep, even
@@ -174,13 +223,37 @@ mod tests {
         let dead = format!("{PREFIX_HEAD}{}x{:06x}_", u32::MAX - 7, 0x5ee);
         let live = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0x5ef);
         for p in [&dead, &live] {
-            fs::create_dir_all(run_root(p).join("nodes")).unwrap();
+            make_root(p);
         }
-        let scratch = std::env::temp_dir().join(format!("gs-ipc-sweep-{}", std::process::id()));
-        let swept = sweep_stale(&scratch);
+        let swept = sweep_stale();
         assert!(swept.contains(&dead), "{swept:?}");
         assert!(!run_root(&dead).exists());
         assert!(run_root(&live).exists(), "its owner is alive");
         fs::remove_dir_all(run_root(&live)).unwrap();
+    }
+
+    /// A symlink under a dead run's names, to a folder of ours and to a
+    /// file of ours: neither the link nor what it points to is touched.
+    #[test]
+    fn the_sweep_never_follows_a_symlink() {
+        let _sweeping = SWEEPING.lock().unwrap_or_else(|e| e.into_inner());
+        let dead = format!("{PREFIX_HEAD}{}x{:06x}_", u32::MAX - 8, 0x5eb);
+        let target = std::env::temp_dir().join(format!("gs-ipc-symlink-{}", std::process::id()));
+        fs::create_dir_all(&target).unwrap();
+        let precious = target.join(format!("{dead}precious"));
+        fs::write(&precious, b"keep").unwrap();
+        let links = [run_root(&dead), Path::new(SHM).join(format!("{dead}link"))];
+        std::os::unix::fs::symlink(&target, &links[0]).unwrap();
+        std::os::unix::fs::symlink(&precious, &links[1]).unwrap();
+        let swept = sweep_stale();
+        let left: Vec<bool> = links.iter().map(|l| fs::symlink_metadata(l).is_ok()).collect();
+        for l in &links {
+            let _ = fs::remove_file(l);
+        }
+        let kept = fs::read(&precious);
+        fs::remove_dir_all(&target).unwrap();
+        assert!(!swept.contains(&dead), "{swept:?}");
+        assert_eq!(left, [true, true], "the links are not the run's: left alone");
+        assert_eq!(kept.unwrap(), b"keep");
     }
 }

@@ -120,7 +120,7 @@ mod tests {
     /// one more.
     #[test]
     fn a_shared_outbox_tells_whose_each_chunk_is() {
-        use crate::ipc::{cleanup_run, config, create_node, root_dir, PREFIX_HEAD};
+        use crate::ipc::{cleanup_run, config, create_node, PREFIX_HEAD};
         let prefix = format!("{PREFIX_HEAD}{}x{:06x}_", std::process::id(), 0x0b0);
         let c = config(&prefix).unwrap();
         let node = create_node(&c, "probe").unwrap();
@@ -139,6 +139,6 @@ mod tests {
         assert_eq!(got, [(6, b"from a".to_vec()), (7, b"from b".to_vec())]);
         assert!(open(&node, "probe/out", 8).is_err(), "a bigger buffer than the creator gave is refused");
         drop((a, b, reader, service, node));
-        cleanup_run(&prefix, &root_dir(&c)).unwrap();
+        cleanup_run(&prefix).unwrap();
     }
 }

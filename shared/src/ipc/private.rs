@@ -49,7 +49,7 @@ const NODE_COUNTER_BYTES: usize = 16;
 
 /// iceoryx2's root folder for the run with this prefix: its own folder in
 /// `/dev/shm`, where the sweep of dead runs finds its files by prefix
-/// ([`super::files::run_prefixes`]). In memory, not under the temporary
+/// ([`super::files`]). In memory, not under the temporary
 /// directory: iceoryx2 syncs every service's and node's static file to
 /// disk when it makes it (about 1.3 ms each on this machine's disk, against
 /// 0.02 ms in memory), and a run of 1,000 robots makes over 2,000.
@@ -284,10 +284,6 @@ mod tests {
         let err = guard_node_counter(&prefix).unwrap_err();
         assert!(err.contains("mode 666") && err.contains(&path.display().to_string()), "{err}");
         fs::remove_file(&path).unwrap();
-        assert_eq!(
-            super::super::run_files(&prefix, &run_root(&prefix)),
-            Vec::<PathBuf>::new(),
-            "no temporary file left"
-        );
+        assert_eq!(super::super::run_files(&prefix), Vec::<PathBuf>::new(), "no temporary file left");
     }
 }

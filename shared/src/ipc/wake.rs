@@ -154,7 +154,7 @@ impl Waker {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ipc::{cleanup_run, config, create_node, root_dir, PREFIX_HEAD};
+    use crate::ipc::{cleanup_run, config, create_node, PREFIX_HEAD};
     use std::time::Duration;
 
     fn woken(l: &Listener) -> usize {
@@ -184,7 +184,7 @@ mod tests {
         drop(l2);
         assert!(waker.wake(2).is_err(), "a listener gone is an error");
         drop((l0, waker, service, node));
-        cleanup_run(&prefix, &root_dir(&c)).unwrap();
+        cleanup_run(&prefix).unwrap();
     }
 
     /// A failed send that iceoryx2 only logs is counted by the run's logger.

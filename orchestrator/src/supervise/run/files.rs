@@ -25,6 +25,7 @@ impl RunFiles {
         let dir = std::env::temp_dir().join(format!("gridswarm-{prefix}"));
         // Only this user may read the run's files (SECURITY.md).
         fs::DirBuilder::new().mode(0o700).create(&dir).map_err(Error::write(&dir))?;
+        crate::launch::remove_on_interrupt(&dir);
         Ok(RunFiles { dir })
     }
 
@@ -66,6 +67,7 @@ fn write_json(path: &Path, v: &impl serde::Serialize) -> Result<()> {
 impl Drop for RunFiles {
     fn drop(&mut self) {
         let _ = fs::remove_dir_all(&self.dir);
+        crate::launch::finished(&self.dir);
     }
 }
 
@@ -77,7 +79,9 @@ pub fn temp_files(prefix: &str) -> Vec<PathBuf> {
         .unwrap_or_default()
 }
 
-/// Removes the temporary directories of runs whose orchestrator is gone.
+/// Removes the temporary directories of runs whose orchestrator is gone:
+/// only real folders of this uid (never a symlink, never another user's
+/// entry under a run's name), one listing of the temporary directory.
 pub fn sweep_stale() {
     let Ok(dir) = fs::read_dir(std::env::temp_dir()) else { return };
     for e in dir.flatten() {
@@ -85,9 +89,50 @@ pub fn sweep_stale() {
         let Some(rest) = name.strip_prefix("gridswarm-") else { continue };
         let Some(end) = rest.find('_') else { continue };
         let Some(owner) = ipc::prefix_owner(&rest[..=end]) else { continue };
-        if owner != std::process::id() && !ipc::pid_alive(owner) {
-            let path = e.path();
-            let _ = if path.is_dir() { fs::remove_dir_all(&path) } else { fs::remove_file(&path) };
+        if owner != std::process::id() && !ipc::pid_alive(owner) && ipc::is_own_folder(&e.path()) {
+            let _ = fs::remove_dir_all(e.path());
         }
+    }
+}
+
+/// Free and total bytes of the file system under `/dev/shm`.
+fn shm_space() -> Option<(u64, u64)> {
+    let path = std::ffi::CString::new("/dev/shm").ok()?;
+    // SAFETY: an all-zero statvfs is a valid out-parameter for statvfs(3).
+    let mut st: libc::statvfs = unsafe { std::mem::zeroed() };
+    // SAFETY: a valid C string and out-parameter.
+    if unsafe { libc::statvfs(path.as_ptr(), &mut st) } != 0 {
+        return None;
+    }
+    let block = st.f_frsize as u64;
+    Some((st.f_bavail as u64 * block, st.f_blocks as u64 * block))
+}
+
+/// Below this much free space in `/dev/shm` a failed run says so: a run's
+/// shared-memory files and pages may not have fit.
+const SHM_FULL_BYTES: u64 = 1 << 20;
+
+/// What to add to the error of a process that `died_of_sigbus` or failed,
+/// measured before the run's files are removed: shared memory that ran
+/// out (a page of a file in a full `/dev/shm` is a SIGBUS when touched;
+/// a file that does not fit, iceoryx2's "could not be created").
+pub fn shm_note(died_of_sigbus: bool) -> String {
+    let Some((free, total)) = shm_space() else { return String::new() };
+    let kib = |b: u64| b / 1024;
+    if died_of_sigbus {
+        format!(
+            "; SIGBUS: the run's shared memory in /dev/shm could not be backed ({} KiB free of {} KiB): free some, or enlarge /dev/shm",
+            kib(free),
+            kib(total)
+        )
+    } else if free < SHM_FULL_BYTES {
+        // Measured after the failed process removed what it had made.
+        format!(
+            "; /dev/shm, where the run's shared memory lives, has only {} KiB free of {} KiB: free some, or enlarge it",
+            kib(free),
+            kib(total)
+        )
+    } else {
+        String::new()
     }
 }

@@ -10,8 +10,9 @@
 //! world-server, wait for its `ready`; spawn the agents ([`spawn`]); follow
 //! the world's stdout (`tick K`, `fault K` → signal → `go`, `done`); read
 //! its report; reap the agents; remove every file of the run; write the
-//! outputs ([`summary`]). If the world-server dies, an agent exits with an
-//! error (at start, its own line is shown at once, not after the world's
+//! outputs ([`summary`]). If the world-server dies or says nothing for
+//! [`WORLD_SILENCE`], an agent exits with an error (or at all before the
+//! first slot: its own line is shown at once, not after the world's
 //! hello time-out), or SIGINT, SIGTERM, SIGHUP or SIGQUIT arrives, every
 //! child is killed and reaped and the run's files removed before the
 //! one-line error. A run the open-file limit cannot hold is refused before
@@ -53,6 +54,11 @@ use spawn::Processes;
 const AGENT_GRACE: Duration = Duration::from_secs(5);
 /// How often the orchestrator looks for agents that exited with an error.
 const AGENT_POLL: Duration = Duration::from_millis(100);
+/// A world that says nothing this long ends the run: it prints `tick K`
+/// every slot and `alive` every second while it waits for robots, so its
+/// silence means it is stopped (SIGSTOP) or stuck. Before `ready` (no
+/// heartbeat yet) only a world stopped this long does.
+pub const WORLD_SILENCE: Duration = Duration::from_secs(10);
 
 #[derive(Clone, Debug)]
 pub struct RunOptions {
@@ -159,7 +165,7 @@ pub struct Plan {
 /// Checks the options and builds the run: world, starts, faults.
 pub fn plan(opts: &RunOptions) -> Result<Plan> {
     if !opts.algorithm.on_grid() {
-        return Err(Error::Input(format!(
+        return Err(Error::Usage(format!(
             "`run` drives one process per robot on the grid; `{}` is not a robot program (use `simulate --algorithm {}`)",
             opts.algorithm, opts.algorithm
         )));
@@ -173,24 +179,26 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
     }
     let robots = opts.robots.unwrap_or(scenario.robots);
     if robots == 0 || robots > ipc::MAX_ROBOTS {
-        return Err(Error::Input(format!("robots must be in 1..={}, got {robots}", ipc::MAX_ROBOTS)));
+        let msg = format!("robots must be in 1..={}, got {robots}", ipc::MAX_ROBOTS);
+        // Out of range on the command line is a usage error; in a scenario file, the file's.
+        return Err(if opts.robots.is_some() { Error::Usage(msg) } else { Error::Scenario(msg) });
     }
-    schedule::check(&opts.faults, robots).map_err(Error::Input)?;
+    schedule::check(&opts.faults, robots).map_err(Error::Usage)?;
     opts.net.check()?;
     if opts.net.remote_agents.is_some() && (!opts.faults.is_empty() || opts.kill_random > 0) {
-        return Err(Error::Input(
+        return Err(Error::Usage(
             "faults are applied by signalling the agents' processes; with --remote-agents the orchestrator has none"
                 .into(),
         ));
     }
     for (name, p) in [("--loss", opts.radio.loss), ("--dup", opts.radio.dup)] {
         if !(0.0..=1.0).contains(&p) {
-            return Err(Error::Input(format!("{name} {p}: a probability is between 0 and 1")));
+            return Err(Error::Usage(format!("{name} {p}: a probability is between 0 and 1")));
         }
     }
     let taken: Vec<usize> = opts.faults.iter().map(|f| f.robot).collect();
     let mut faults = opts.faults.clone();
-    faults.extend(schedule::kill_random(opts.seed, robots, opts.kill_random, &taken).map_err(Error::Input)?);
+    faults.extend(schedule::kill_random(opts.seed, robots, opts.kill_random, &taken).map_err(Error::Usage)?);
     let world = scenario.world();
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
@@ -237,9 +245,8 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     };
 
     let prefix = ipc::new_prefix();
-    let root = ipc::root_dir(&ipc::config(&prefix).map_err(Error::Run)?);
     // What SIGKILLed orchestrators left behind.
-    ipc::sweep_stale(&root);
+    ipc::sweep_stale();
     files::sweep_stale();
     let files = RunFiles::create(&prefix)?;
     let run_file = RunFile {
@@ -252,7 +259,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
 
     let (tx, rx) = mpsc::channel();
     launch::forward_signals(tx.clone()).map_err(Error::Run)?;
-    let mut procs = Processes::new(&prefix, root);
+    let mut procs = Processes::new(&prefix);
     let launch = opts.net.args(&prefix)?;
     if let Some(key) = &opts.net.remote_agents {
         eprintln!("{}", net::hand_hint(key, opts, &plan));
@@ -267,14 +274,15 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let statuses: Vec<Option<i32>> =
         procs.agents.iter_mut().map(|c| c.try_wait().ok().flatten().and_then(|s| s.code())).collect();
     procs.cleanup();
-    // A signal that came while the agents were ending.
+    // From here a signal ends the command itself (the unfinished folders
+    // removed); one that came while the agents were ending is in `rx`.
+    launch::default_signals();
     while let Ok(ev) = rx.try_recv() {
         if let Event::Signal(s) = ev {
             return Err(interrupted(&mut procs, s));
         }
     }
-    launch::default_signals();
-    let leftovers = ipc::run_files(&prefix, &procs.root);
+    let leftovers = ipc::run_files(&prefix);
     if !leftovers.is_empty() {
         warn(format!("warning: {} file(s) of run {prefix} could not be removed", leftovers.len()));
     }
@@ -331,27 +339,29 @@ fn follow(
     let spawned_ms = started.elapsed().as_secs_f64() * 1e3;
     let faults = &plan.cfg.faults;
     let mut applied = vec![false; faults.len()];
-    let mut round: Option<u32> = None;
-    let mut polled = Instant::now();
+    let mut watch = Watch { round: None, polled: Instant::now(), heard: Instant::now() };
     loop {
-        match next_event(procs, rx, round, &mut polled)? {
+        match next_event(procs, rx, &mut watch)? {
             Ok(Event::Line(l)) if l == "done" => break,
             Ok(Event::Line(l)) => {
                 if let Some(k) = l.strip_prefix("tick ").and_then(|k| k.parse().ok()) {
-                    round = Some(k);
+                    watch.round = Some(k);
                 } else if let Some(k) = l.strip_prefix("fault ").and_then(|k| k.parse::<usize>().ok()) {
                     if let Some(f) = faults.get(k) {
                         applied[k] = inject::apply(f.kind, &mut procs.agents[f.robot]);
                     }
                     if !procs.go() {
-                        return Err(world_died(procs, round));
+                        return Err(world_died(procs, watch.round));
                     }
+                    // The world waited for us meanwhile.
+                    watch.heard = Instant::now();
                 }
             }
-            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, round)),
+            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, watch.round)),
             Ok(Event::Signal(s)) => return Err(interrupted(procs, s)),
         }
     }
+    let round = watch.round;
     let run_ms = started.elapsed().as_secs_f64() * 1e3;
     if let Some(Ok(st)) = procs.world.as_mut().map(|w| w.wait()) {
         if !st.success() {
@@ -361,24 +371,45 @@ fn follow(
     Ok(Followed { applied, ready_ms, spawned_ms, run_ms })
 }
 
-/// The next event; an agent that exited with an error ends the run first,
-/// in its own words.
+/// What the orchestrator follows of a live run.
+struct Watch {
+    /// The world's last `tick`; `None` before the first slot.
+    round: Option<u32>,
+    /// When the agents were last looked at.
+    polled: Instant,
+    /// When the world last printed a line.
+    heard: Instant,
+}
+
+/// The next event; an agent that exited with an error, or exited at all
+/// before the first slot, ends the run first, in its own words, and so
+/// does a world silent for [`WORLD_SILENCE`].
 fn next_event(
     procs: &mut Processes,
     rx: &Receiver<Event>,
-    round: Option<u32>,
-    polled: &mut Instant,
+    watch: &mut Watch,
 ) -> Result<std::result::Result<Event, mpsc::RecvError>> {
     loop {
-        let ev = match rx.recv_timeout(AGENT_POLL.saturating_sub(polled.elapsed())) {
+        let ev = match rx.recv_timeout(AGENT_POLL.saturating_sub(watch.polled.elapsed())) {
             Ok(ev) => Some(Ok(ev)),
             Err(mpsc::RecvTimeoutError::Timeout) => None,
             Err(mpsc::RecvTimeoutError::Disconnected) => Some(Err(mpsc::RecvError)),
         };
-        if polled.elapsed() >= AGENT_POLL {
-            *polled = Instant::now();
-            if let Some((k, status)) = procs.failed_agent() {
-                return Err(agent_failed(procs, k, status, round));
+        if let Some(Ok(Event::Line(_))) = ev {
+            watch.heard = Instant::now();
+        }
+        if watch.polled.elapsed() >= AGENT_POLL {
+            watch.polled = Instant::now();
+            // Before the first `tick`, the agents have not all said hello.
+            if let Some((k, status)) = procs.failed_agent(watch.round.is_none()) {
+                // An agent that found its world gone: the world's end is the news.
+                if status.code() == Some(ipc::EXIT_WORLD_GONE) && procs.world_exited() {
+                    return Err(world_died(procs, watch.round));
+                }
+                return Err(agent_failed(procs, k, status, watch.round));
+            }
+            if watch.heard.elapsed() >= WORLD_SILENCE {
+                return Err(world_silent(procs, watch.round));
             }
         }
         if let Some(ev) = ev {
@@ -398,18 +429,29 @@ fn agent_failed(procs: &mut Processes, k: usize, status: std::process::ExitStatu
         let l = l.strip_prefix(&own).unwrap_or(&l);
         format!(": {}", l.strip_prefix("error: ").unwrap_or(l))
     });
+    let shm = files::shm_note(std::os::unix::process::ExitStatusExt::signal(&status) == Some(libc::SIGBUS));
     procs.abort();
     launch::default_signals();
-    Error::Run(format!("robot-agent {k} failed {when} ({}){}", launch::describe(status), said.unwrap_or_default()))
+    let how = launch::describe(status);
+    Error::Run(format!("robot-agent {k} failed {when} ({how}){}{shm}", said.unwrap_or_default()))
 }
 
+/// Waits for the world's `ready`. Building the services of thousands of
+/// robots takes a while and prints nothing, so only a world stopped for
+/// [`WORLD_SILENCE`] ends the run here.
 fn wait_ready(procs: &mut Processes, rx: &Receiver<Event>) -> Result<()> {
+    let mut running = Instant::now();
     loop {
-        match rx.recv() {
+        match rx.recv_timeout(AGENT_POLL) {
             Ok(Event::Line(l)) if l == "ready" => return Ok(()),
-            Ok(Event::Line(_)) => {}
-            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, None)),
+            Ok(Event::Line(_)) | Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Ok(Event::WorldClosed) | Err(mpsc::RecvTimeoutError::Disconnected) => return Err(world_died(procs, None)),
             Ok(Event::Signal(s)) => return Err(interrupted(procs, s)),
+        }
+        if !ipc::pid_stopped(procs.world_pid()) {
+            running = Instant::now();
+        } else if running.elapsed() >= WORLD_SILENCE {
+            return Err(world_silent(procs, None));
         }
     }
 }
@@ -428,13 +470,33 @@ fn world_died(procs: &mut Processes, round: Option<u32>) -> Error {
         Some(k) => format!("in round {k}"),
         None => "before it was ready".into(),
     };
+    // Before the run's files go and free the space they held.
+    let sigbus = status.is_some_and(|s| std::os::unix::process::ExitStatusExt::signal(&s) == Some(libc::SIGBUS));
+    let shm = files::shm_note(sigbus);
     procs.abort();
     launch::default_signals();
     let verb = if how.starts_with("signal") { "died" } else { "failed" };
     // Its own one-line reason, when it gave one.
     let said = procs.world_said();
     let why = said.iter().rev().find_map(|l| l.strip_prefix("error: ")).map(|r| format!(": {r}")).unwrap_or_default();
-    Error::Run(format!("world-server {verb} ({how}) {when}{why}"))
+    Error::Run(format!("world-server {verb} ({how}) {when}{why}{shm}"))
+}
+
+/// Ends the run whose world said nothing for [`WORLD_SILENCE`].
+fn world_silent(procs: &mut Processes, round: Option<u32>) -> Error {
+    let pid = procs.world_pid();
+    let how = if ipc::pid_stopped(pid) { "is stopped (SIGSTOP?) and " } else { "" };
+    let when = match round {
+        Some(k) => format!("in round {k}"),
+        None => "at start".into(),
+    };
+    procs.abort();
+    launch::default_signals();
+    Error::Run(format!(
+        "world-server (pid {pid}) {how}has said nothing for {} s {when}: stopped it and every robot-agent, \
+         removed the run's shared-memory files",
+        WORLD_SILENCE.as_secs()
+    ))
 }
 
 fn interrupted(procs: &mut Processes, sig: i32) -> Error {

@@ -37,12 +37,15 @@ impl NetOptions {
     /// Refuses settings that mean nothing for the transport.
     pub fn check(&self) -> Result<()> {
         if self.transport == Transport::Iceoryx2 && (!self.listen.is_empty() || self.remote_agents.is_some()) {
-            return Err(Error::Input(
+            return Err(Error::Usage(
                 "--listen and --remote-agents need --transport zenoh (iceoryx2 is one machine's shared memory)".into(),
             ));
         }
         if let Some(key) = &self.remote_agents {
-            transport::check_key(key).map_err(|e| Error::Input(format!("--remote-agents: {e}")))?;
+            transport::check_key(key).map_err(|e| Error::Usage(format!("--remote-agents: {e}")))?;
+        }
+        for e in &self.listen {
+            transport::check_endpoint(e).map_err(|e| Error::Usage(format!("--listen: {e}")))?;
         }
         Ok(())
     }

@@ -31,7 +31,6 @@ pub struct Processes {
     world_in: Option<ChildStdin>,
     pub agents: Vec<Child>,
     prefix: String,
-    pub root: PathBuf,
     /// Where the world-server's stderr goes.
     world_log: Option<PathBuf>,
     /// Where the agents' stderr goes.
@@ -106,13 +105,12 @@ impl Spawners {
 }
 
 impl Processes {
-    pub fn new(prefix: &str, root: PathBuf) -> Self {
+    pub fn new(prefix: &str) -> Self {
         Processes {
             world: None,
             world_in: None,
             agents: Vec::new(),
             prefix: prefix.to_string(),
-            root,
             world_log: None,
             agent_log: None,
             spawners: Spawners::default(),
@@ -190,11 +188,22 @@ impl Processes {
     /// The first agent found to have exited with an error status (neither
     /// 0, `End`, nor [`ipc::EXIT_WORLD_GONE`]; a signal is a fault or a
     /// death the world finds by itself): its number and how it ended.
-    pub fn failed_agent(&mut self) -> Option<(usize, ExitStatus)> {
+    /// `at_start`: before the world's first slot, when any exit (0, a
+    /// signal) is a failure: a robot that never says hello would stall the
+    /// run until the world's hello time-out (30 s). Later a robot killed by a
+    /// signal is a crash the others detect, and status 0 or
+    /// [`ipc::EXIT_WORLD_GONE`] its normal end.
+    pub fn failed_agent(&mut self, at_start: bool) -> Option<(usize, ExitStatus)> {
+        let failed = |st: &ExitStatus| at_start || st.code().is_some_and(|c| c != 0 && c != ipc::EXIT_WORLD_GONE);
         self.agents.iter_mut().enumerate().find_map(|(k, c)| match c.try_wait() {
-            Ok(Some(st)) if st.code().is_some_and(|c| c != 0 && c != ipc::EXIT_WORLD_GONE) => Some((k, st)),
+            Ok(Some(st)) if failed(&st) => Some((k, st)),
             _ => None,
         })
+    }
+
+    /// Whether the world-server has exited (its status is kept for [`Child::wait`]).
+    pub fn world_exited(&mut self) -> bool {
+        self.world.as_mut().is_some_and(|w| matches!(w.try_wait(), Ok(Some(_))))
     }
 
     /// What agent `k` said: its own line in the agents' log (ours start
@@ -224,7 +233,7 @@ impl Processes {
     }
 
     pub fn cleanup(&mut self) {
-        let _ = ipc::cleanup_run(&self.prefix, &self.root);
+        let _ = ipc::cleanup_run(&self.prefix);
     }
 }
 
