@@ -362,6 +362,10 @@ impl<'g> Robot<'g> {
     /// its stop test, and with the claims counted it stopped the search on
     /// vertices nobody had seen around (docs/paper.md, "choices update maps").
     pub fn stop_rule(&mut self) -> Option<Stop> {
+        if self.claims.is_empty() {
+            // On time: no choice is out yet.
+            return self.stop_rule_sensed();
+        }
         let held = self.withdraw_claims();
         let stop = self.stop_rule_sensed();
         for &v in &held {
