@@ -7,7 +7,8 @@
 //!
 //! 1. **Exchange.** At the start of the slot it senses, broadcasts its map
 //!    (and floods newly found targets, situation 1), and sleeps until the
-//!    exchange window `t_exchange` ends. The robots whose maps it heard are
+//!    exchange window `t_exchange` ends (widened, once it has heard maps
+//!    come later than that, `Peer::widen_for`). The robots whose maps it heard are
 //!    its communication neighbours for the slot.
 //! 2. **Failure detection.** A robot it heard last slot and expected in
 //!    range again, whose map did not come, is declared failed after
@@ -16,7 +17,8 @@
 //!    declared rejoins: the later round wins ([`crate::map::Map::revive`]).
 //! 3. **Stop.** Rules (3)/(4). A robot whose knowledge leaves nothing
 //!    undetected stops and floods the stop; one cut off behind failed robots
-//!    stops on its own only. A robot that hears a stop stops and relays it.
+//!    stops on its own only, and searches again once one of them is heard.
+//!    A robot that hears a stop stops and relays it.
 //! 4. **Choice.** It waits for the choices of its higher-priority
 //!    neighbours (step 4) until `t_wait` after the exchange; those still
 //!    missing are suspected for the slot and treated as standing still.
@@ -46,6 +48,10 @@ use crate::robot::{Robot, RobotConfig, Sensing, Stop};
 use crate::sim::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
 
 mod filter;
+
+/// The most a robot widens its exchange window, in exchange windows (with
+/// the defaults 1 s: a map later than that reads as a dead neighbour).
+pub const MAX_WIDEN: Time = 20;
 
 /// The protocol's clock settings, in simulated microseconds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -154,10 +160,17 @@ pub struct Peer<'g> {
     silent: Vec<(VertexId, u32)>,
     /// A robot it expected to hear this slot stayed silent.
     missed_any: bool,
+    /// When this slot began, by the robot's clock.
+    slot_start: Time,
+    /// How much it widened its exchange window, for maps it heard late.
+    widen: Time,
     /// When it sensed this slot (its first wake-up of the slot).
     sensed_at: Time,
     /// It sensed after its exchange window ended: it stays this slot.
     late: bool,
+    /// It halted cut off, holding these robots failed: once one of them is
+    /// heard again it checks whether it still is cut off, and resumes if not.
+    cut_off_by: Option<Vec<RobotId>>,
     /// Its map of an earlier `Map` frame, with the frame's round, to copy
     /// its map into for the next.
     spare: Option<(Map, u32)>,
@@ -185,7 +198,10 @@ impl<'g> Peer<'g> {
             silent: Vec::new(),
             missed_any: false,
             sensed_at: 0,
+            slot_start: 0,
+            widen: 0,
             late: false,
+            cut_off_by: None,
             spare: None,
         }
     }
@@ -315,11 +331,25 @@ impl<'g> Peer<'g> {
         let robot = self.robot.as_mut().expect("made above");
         robot.sense(tick.round, &Sensing { open: tick.open, occupied: tick.occupied, targets: &tick.targets });
         let me = robot.id();
-        let halted = self.phase == Phase::Halted;
+        let mut halted = self.phase == Phase::Halted;
+        let revived = self.cut_off_by.as_ref().is_some_and(|ids| ids.iter().any(|&id| !robot.map().is_failed(id)));
+        if halted && revived && !self.stop_known {
+            // A robot it held failed when it halted cut off was heard again:
+            // suspicion is never for good. It resumes unless it is still cut
+            // off, by the failures left (then only their revival wakes it).
+            if robot.stop_rule() == Some(Stop::CutOff) {
+                self.cut_off_by = Some(robot.map().failed_now().map(|(id, _)| id).collect());
+            } else {
+                halted = false;
+                self.cut_off_by = None;
+                out.motor = Some((Motor::Resume, now));
+            }
+        }
         // Woken after the exchange (frozen, or slow): it still sends its map
         // (those that hear it wait for its answer like any other's), and
         // answers with a stay (`late`, set at the end of its exchange).
-        let window_end = tick.start + self.cfg.timing.exchange;
+        let window_end = tick.start + self.cfg.timing.exchange + self.widen;
+        self.slot_start = tick.start;
         let map = robot.map_mut().send_copy(tick.round, self.spare.take());
         self.send(
             out,
@@ -400,6 +430,7 @@ impl<'g> Peer<'g> {
         let me = self.id();
         match f {
             Frame::Map { at, halted, stop, map, .. } => {
+                self.widen_for(now);
                 let robot = self.robot.as_mut().expect("checked");
                 let was_failed = robot.map().is_failed(from);
                 if !robot.receive_map(from, *at, map, *halted) {
@@ -445,6 +476,20 @@ impl<'g> Peer<'g> {
             }
             Frame::Flood { .. } => unreachable!("handled above"),
         }
+    }
+
+    /// A map of this slot heard at `now`, after its exchange window closed:
+    /// the radio (or its sender) is later than the window allows, and a
+    /// missed map reads as a dead neighbour. The robot widens its own window
+    /// to take such a map in time from the next slot on, up to
+    /// [`MAX_WIDEN`] exchange windows; it never narrows it again.
+    fn widen_for(&mut self, now: Time) {
+        if self.phase == Phase::Exchange || now <= self.window_end {
+            return;
+        }
+        let t = self.cfg.timing;
+        let needed = (now + t.hop).saturating_sub(self.slot_start + t.exchange);
+        self.widen = self.widen.max(needed.min(MAX_WIDEN * t.exchange));
     }
 
     /// Step 5's acknowledgement: before choosing, every choice heard is one
@@ -561,8 +606,8 @@ impl<'g> Peer<'g> {
         self.silent = silent;
     }
 
-    /// Stops searching for good: on its own rule `stop`, or (`None`) on a
-    /// stop it heard, which it relays.
+    /// Stops searching: on its own rule `stop`, or (`None`) on a stop it
+    /// heard, which it relays. For good, but for a cut-off (see `cut_off_by`).
     fn halt(&mut self, now: Time, stop: Option<Stop>, out: &mut Output<Frame>) {
         let ends_search = stop.is_none_or(Stop::ends_search);
         let relayed = stop.is_none();
@@ -574,6 +619,7 @@ impl<'g> Peer<'g> {
             }
         }
         self.phase = Phase::Halted;
+        self.cut_off_by = (!ends_search).then(|| robot.map().failed_now().map(|(id, _)| id).collect());
         out.motor = Some((Motor::Halt, now));
         out.notes.push(Note::Stopped { ends_search, relayed, exhausted });
         if ends_search {

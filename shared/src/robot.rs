@@ -319,9 +319,11 @@ impl<'g> Robot<'g> {
         n.map_in = true;
         n.halted |= halted;
         if halted {
-            // A robot that stopped searching never moves again: its vertex
-            // is blocked for good, like a body.
+            // A robot that stopped searching stands still: its vertex is
+            // blocked like a body's, until it is heard searching again.
             self.mark_body(at);
+        } else {
+            self.clear_body(at);
         }
         let k = self.merged.binary_search_by_key(&from, |m| m.0);
         let holds_base = map.base.is_some_and(|b| k.is_ok_and(|k| self.merged[k].1 == b));

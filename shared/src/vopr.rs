@@ -231,8 +231,8 @@ pub fn check(case: &Case, r: &RunResult, suspect_rounds: u32) -> Result<(), Viol
         return broken("refused move", format!("{} refused move(s)", p.refused));
     }
     // Under loss a robot slow by seconds can still miss the slot's limit
-    // (5 cases in 100,000, all with loss and a robot slow by 4.7 to 10 s:
-    // issue 21, open); everywhere else the clock never forces a slot.
+    // (a few cases in 100,000, all with loss and a robot slow by 4.7 to
+    // 10 s: issue 21, open); everywhere else the clock never forces a slot.
     if p.forced_slots > 0 && case.config.radio.loss == 0.0 {
         return broken("forced slot", format!("{} slot(s) closed at their limit", p.forced_slots));
     }

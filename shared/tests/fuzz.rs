@@ -371,7 +371,7 @@ fn note() -> impl Strategy<Value = Note> {
 fn to_world() -> impl Strategy<Value = ToWorld> {
     let send =
         (bytes(300), any::<u64>(), any::<u8>()).prop_map(|(bytes, ready, copies)| WireSend { bytes, ready, copies });
-    let motor = prop_oneof![(0u32..100).prop_map(Motor::Go), Just(Motor::Halt)];
+    let motor = prop_oneof![(0u32..100).prop_map(Motor::Go), Just(Motor::Halt), Just(Motor::Resume)];
     prop_oneof![
         (0u32..13, any::<u32>()).prop_map(|(robot, pid)| ToWorld::Hello { robot, pid }),
         (

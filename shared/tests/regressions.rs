@@ -1,7 +1,9 @@
-//! Issue 21's reproducers, each a fixed case that must end as a complete
-//! search: a robot late for its slot once stopped the search on its
-//! neighbours' announced choices (claims), livelocked `frontier` behind
-//! it, or made the world force a slot shut. Each prints the command that
+//! Issue 21's reproducers, and cases the simulation test found, each a
+//! fixed case that must end as a complete search: a robot late for its
+//! slot once stopped the search on its neighbours' announced choices
+//! (claims), livelocked `frontier` behind it, or made the world force a
+//! slot shut; robots halted cut off for good; frames later than the
+//! exchange window read as dead neighbours. Each prints the command that
 //! replays it.
 
 use gridswarm::engine;
@@ -69,4 +71,41 @@ fn a_robot_slow_by_seconds_does_not_force_a_slot_shut() {
     let replay = "--algorithm frontier --seed 1081004315 --situation 2 --freeze 3@37+0.260:40+0.854 \
                   --kill 1@28+0.290 --slow 2@18+2.178:4704 --delay 7:33";
     completes(8, cfg, replay);
+}
+
+#[test]
+fn a_robot_halted_cut_off_resumes_when_the_robot_it_held_failed_is_heard_again() {
+    // A robot halted cut off behind a robot it held failed, which was only
+    // frozen or slow, stayed halted for good, and the search never ended.
+    let us = |robot, round, offset, kind| Fault { robot, round, offset, kind };
+    let faults = vec![
+        us(4, 17, 1_121_716, FaultKind::Freeze),
+        us(4, 18, 1_095_864, FaultKind::Thaw),
+        us(5, 16, 870_402, FaultKind::Crash),
+        us(7, 6, 628_593, FaultKind::Freeze),
+        us(7, 13, 1_340_989, FaultKind::Thaw),
+        us(4, 13, 756_985, slow(295)),
+        us(4, 23, 0, slow(0)),
+    ];
+    let mut cfg = config(Policy::Sequential, 16865598137419723025, Situation::Two, faults);
+    cfg.radio = Radio { delay: 8_758, dup: 0.384, ..Radio::default() };
+    let replay = "--algorithm sequential --seed 16865598137419723025 --situation 2 --delay 8.758:0 --dup 0.384 \
+                  --freeze 4@17+1.121716:18+1.095864 --kill 5@16+0.870402 --freeze 7@6+0.628593:13+1.340989 \
+                  --slow 4@13+0.756985:295 --slow 4@23:0";
+    completes(8, cfg, replay);
+}
+
+#[test]
+fn maps_later_than_the_window_widen_it_instead_of_reading_as_dead_neighbours() {
+    // Every frame 60 ms late, past the 50 ms window: every map read as a
+    // dead neighbour's, slot after slot (issue 21: 400,000 false
+    // suspicions at 49 ms). Robots that see maps come late widen their window.
+    let mut cfg = config(Policy::Repulsive, 3, Situation::One, vec![]);
+    cfg.radio = Radio { delay: 60_000, ..Radio::default() };
+    let sc = Scenario::builtin("paper").unwrap();
+    let world = sc.world();
+    let r = engine::run(&world, &sc.start_vertices(&world, 13).unwrap(), &cfg);
+    let replay = "gridswarm simulate --robots 13 --seed 3 --delay 60";
+    assert!(r.complete, "incomplete: {replay}");
+    assert_eq!(r.protocol.false_suspicions, 0, "{replay}");
 }

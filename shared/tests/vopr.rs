@@ -16,15 +16,14 @@ use gridswarm::vopr::{self, Violation, Worlds};
 /// among the cases the design bounds: on `small`, inside the stated bound
 /// ([`vopr::Case::in_bound`]), robots slow by at most 0.8 s, `escape` aside (its robots can block each
 /// other's first step for good, a weakness of that policy left to its own
-/// issue). Measured at 100,000 cases, seed 1: 8 of 31,151 (2.6 per 10,000);
-/// the protocol before late robots stayed wandered in 6 of those 8, and
-/// ended the other 2 `cut_off` (survivors that wander: issue 21, point 3).
+/// issue). Measured at 100,000 cases, seed 1: 8 of 31,151 (2.6 per 10,000),
+/// survivors that wander (issue 21, point 3).
 const ENDLESS_PER_10K: u64 = 3;
 /// Endless searches allowed per 10,000 among all the other cases: crashes
 /// and freezes on bigger maps and teams, RU, frames past the window, loss.
 /// Survivors that never meet the walls of bodies wander (issue 21, point
-/// 3, open); this bound only keeps the rate from growing. Measured: 6.2%
-/// of them at 20,000 cases, seed 1, a third of them RU's.
+/// 3, open); this bound only keeps the rate from growing. Measured: 5.4%
+/// of them at 100,000 cases, seed 1, a third of them RU's.
 const ENDLESS_BEYOND_PER_10K: u64 = 700;
 
 fn env(name: &str, default: u64) -> u64 {

@@ -105,8 +105,11 @@ pub struct Transmit<P> {
 pub enum Motor {
     /// Go to this vertex at the end of the slot (its own vertex to stay).
     Go(VertexId),
-    /// Stop searching for good: stay, and give no more motor commands.
+    /// Stop searching: stay, and give no more motor commands until `Resume`.
     Halt,
+    /// Search again after a halt (a robot cut off behind robots it held
+    /// failed, one of which was heard again): it owes motor commands again.
+    Resume,
 }
 
 /// What a robot records for the experimenter. The world keeps these for

@@ -102,6 +102,8 @@ pub struct Kernel<'w, P> {
     /// The stop that ended the search came from a robot that knew targets
     /// were left unfound ([`Note::Stopped`]'s `exhausted`).
     stop_exhausted: bool,
+    /// Slots in a row closed with no robot searching ([`Kernel::quiet_enough`]).
+    quiet: u32,
     exchange: Time,
     hop: Time,
     slot_limit: Time,
@@ -131,9 +133,11 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         let p = &world.params;
         let exchange = micros(p.t_exchange);
         let wait = micros(p.t_wait);
-        // The protocol's own bound (exchange, a wait for choices, the choice,
-        // a wait for acknowledgements, a few hops), with room for slow robots.
-        let slot_limit = exchange + 4 * wait + micros(p.t_choice) + 20 * micros(p.t_hop);
+        // The protocol's own bound (the widest exchange a robot may choose, a
+        // wait for choices, the choice, a wait for acknowledgements, a few
+        // hops), with room for slow robots.
+        let widest = exchange * (1 + crate::peer::MAX_WIDEN);
+        let slot_limit = widest + 4 * wait + micros(p.t_choice) + 20 * micros(p.t_hop);
         let bots = (0..n)
             .map(|_| Bot {
                 body: Body::Running,
@@ -169,6 +173,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             last_motor: 0,
             ended: None,
             stop_exhausted: false,
+            quiet: 0,
             exchange,
             hop: micros(p.t_hop),
             slot_limit,
@@ -434,11 +439,23 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         if let Some((m, t)) = out.motor {
             self.may_close = true;
             let b = &mut self.bots[r];
-            if self.slot_open && b.motor.is_none() && !b.halted {
-                match m {
-                    Motor::Go(v) => b.motor = Some(v),
-                    Motor::Halt => b.halted = true,
+            if m != Motor::Halt {
+                // A command, or a resume (which a command in the same
+                // wake-up replaces): it searches again.
+                b.halted = false;
+            }
+            let given = match m {
+                Motor::Go(v) if self.slot_open && b.motor.is_none() => {
+                    b.motor = Some(v);
+                    true
                 }
+                Motor::Halt if self.slot_open && b.motor.is_none() && !b.halted => {
+                    b.halted = true;
+                    true
+                }
+                _ => false,
+            };
+            if given {
                 self.last_motor = self.last_motor.max(t.max(now));
             }
         }
@@ -576,6 +593,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         self.round_collisions.push(report.collisions);
         let mut searching = 0;
         let round = self.round;
+        if searching_left(&self.bots) {
+            self.quiet = 0;
+        }
         for b in self.bots.iter_mut() {
             if b.body == Body::Running && !b.halted {
                 searching += 1;
@@ -597,7 +617,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             self.ended = Some("stop");
         } else if self.round >= self.cfg.max_rounds && searching_left(&self.bots) {
             self.ended = Some("max_rounds");
-        } else if !searching_left(&self.bots) && !self.thaw_ahead() {
+        } else if !searching_left(&self.bots) && !self.thaw_ahead() && self.quiet_enough() {
             self.ended =
                 Some(if self.bots.iter().any(|b| b.halted && b.body != Body::Dead) { "cut_off" } else { "no_robots" });
         } else if self.round >= self.cfg.max_rounds {
@@ -606,6 +626,19 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             self.now = end;
             self.push(end, Ev::SlotStart);
         }
+    }
+}
+
+impl<'w, P: Clone + Framed> Kernel<'w, P> {
+    /// Whether nobody searching is final: robots halted cut off still
+    /// exchange maps, and one resumes when a robot it held failed is heard
+    /// again, news that takes up to one slot a hop. Slots in a row with no
+    /// robot searching but some halted and running are counted; after one
+    /// more than such robots, nothing can change any more.
+    fn quiet_enough(&mut self) -> bool {
+        let parked = self.bots.iter().filter(|b| b.halted && b.body == Body::Running).count();
+        self.quiet += 1;
+        parked == 0 || self.quiet > parked as u32
     }
 }
 
