@@ -107,17 +107,7 @@ fn an_agent_that_fails_at_start_ends_the_run_at_once_with_its_error() {
     )
     .unwrap();
     fs::set_permissions(&agent, fs::Permissions::from_mode(0o755)).unwrap();
-    let t = Instant::now();
-    let child = gridswarm()
-        .args(["run", "--robots", "5", "--agent-bin"])
-        .arg(&agent)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let prefixes = format!("gs{}x", child.id());
-    let out = child.wait_with_output().unwrap();
-    let took = t.elapsed();
+    let (out, took, prefixes) = run_with_agent("5", &agent);
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
     assert_eq!(err.lines().count(), 1, "one line: {err}");
@@ -142,17 +132,7 @@ fn an_agent_that_dies_before_its_hello_ends_the_run_at_once_with_its_status() {
         .unwrap();
     fs::set_permissions(&agent, fs::Permissions::from_mode(0o755)).unwrap();
     for (program, status) in [(agent.as_path(), "(signal 9)"), (std::path::Path::new("/bin/true"), "(exit status 0)")] {
-        let t = Instant::now();
-        let child = gridswarm()
-            .args(["run", "--robots", "3", "--agent-bin"])
-            .arg(program)
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        let prefixes = format!("gs{}x", child.id());
-        let out = child.wait_with_output().unwrap();
-        let took = t.elapsed();
+        let (out, took, prefixes) = run_with_agent("3", program);
         let err = text(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{program:?}: {err}");
         assert_eq!(err.lines().count(), 1, "one line: {err}");
@@ -161,4 +141,19 @@ fn an_agent_that_dies_before_its_hello_ends_the_run_at_once_with_its_status() {
         assert!(took < Duration::from_secs(20), "{program:?}: took {took:?}");
         assert_no_leftovers(&prefixes);
     }
+}
+
+/// `gridswarm run --robots ROBOTS --agent-bin AGENT`: its output, how long
+/// it took, and the prefix of its shared-memory files.
+fn run_with_agent(robots: &str, agent: &std::path::Path) -> (std::process::Output, Duration, String) {
+    let t = Instant::now();
+    let child = gridswarm()
+        .args(["run", "--robots", robots, "--agent-bin"])
+        .arg(agent)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let prefixes = format!("gs{}x", child.id());
+    (child.wait_with_output().unwrap(), t.elapsed(), prefixes)
 }
