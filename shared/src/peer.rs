@@ -641,7 +641,7 @@ impl<'g> Peer<'g> {
         let timing = self.cfg.timing;
         let robot = self.robot.as_mut().expect("started");
         if robot.choice().is_none() {
-            if self.late || now >= self.deadline + timing.wait {
+            if self.late || now >= self.deadline + timing.wait / 2 {
                 // Woken far past the time it asked for (slow, or thawed):
                 // those that waited on it chose without it long ago, and a
                 // choice now could not gather its acknowledgements within
