@@ -146,8 +146,6 @@ pub struct Robot<'g> {
     /// A map was merged while claims were held: dropping them may take
     /// away what that map said too, and then `merged` no longer holds.
     merged_over_claims: bool,
-    /// Scratch for the claims the stop rule sets aside.
-    withdrawn: Vec<VertexId>,
     /// Scratch for the rule's view, kept so choosing never allocates.
     views: Vec<NeighbourView>,
     blocked_now: Vec<VertexId>,
@@ -189,7 +187,6 @@ impl<'g> Robot<'g> {
             claims: Vec::new(),
             merged: Vec::new(),
             merged_over_claims: false,
-            withdrawn: Vec::new(),
             paths: Paths::default(),
             views: Vec::with_capacity(16),
             blocked_now: Vec::new(),
@@ -368,27 +365,21 @@ impl<'g> Robot<'g> {
             // On time: no choice is out yet.
             return self.stop_rule_sensed();
         }
-        let held = self.withdraw_claims();
+        self.set_unsensed_claims(false);
         let stop = self.stop_rule_sensed();
-        for &v in &held {
-            self.map.set_visited(v, true);
-        }
-        self.withdrawn = held;
+        self.set_unsensed_claims(true);
         stop
     }
 
-    /// Marks unvisited again the claimed vertices nobody sensed yet (they
-    /// stay known: a claim shows there is something to visit), and returns them.
-    fn withdraw_claims(&mut self) -> Vec<VertexId> {
-        let mut held = std::mem::take(&mut self.withdrawn);
-        held.clear();
+    /// Marks the claimed vertices nobody sensed yet visited or not (they
+    /// stay known: a claim shows there is something to visit). Until the
+    /// next sensing drops them, every claimed vertex is visited.
+    fn set_unsensed_claims(&mut self, visited: bool) {
         for &(v, _) in &self.claims {
-            if self.map.open(v) & SENSED == 0 && self.map.visited(v) {
-                self.map.set_visited(v, false);
-                held.push(v);
+            if self.map.open(v) & SENSED == 0 {
+                self.map.set_visited(v, visited);
             }
         }
-        held
     }
 
     fn stop_rule_sensed(&mut self) -> Option<Stop> {
