@@ -27,6 +27,11 @@ pub struct Failure {
     pub robot: RobotId,
     pub at: VertexId,
     pub round: u32,
+    /// Some robot's sonar found `at` occupied since the declaration. A
+    /// declaration says only that a robot went unheard (under loss, of a
+    /// live robot that moved on); until someone has seen the body, the
+    /// robots it cuts off go and look ([`crate::robot::Robot`]).
+    pub seen: bool,
 }
 
 /// A robot's map. The per-vertex parts live in shared [`tiles`]; on the
@@ -48,6 +53,15 @@ pub struct Map {
     /// heard alive again (a rejoin), sorted by robot. A failure counts only
     /// while its round is later than this.
     pub alive: Vec<(RobotId, u32)>,
+    /// Silent bodies: vertices where a sonar found a robot nobody heard,
+    /// with the latest round one was found there, sorted by vertex. Spread
+    /// like failures, so that robots who never pass by learn that the
+    /// vertex will never be visited (and that what lies behind it may be
+    /// cut off).
+    pub bodies: Vec<(VertexId, u32)>,
+    /// For vertices once holding a body: the latest round a sonar found
+    /// the vertex free. A body counts only while found later than this.
+    pub freed: Vec<(VertexId, u32)>,
     /// The round of a map this map's robot sent, from which this map
     /// differs only in the tiles marked changed: for a robot's own map its
     /// last copy sent, for that copy the copy before ([`Map::send_copy`],
@@ -63,6 +77,8 @@ impl PartialEq for Map {
             && self.targets == other.targets
             && self.failed == other.failed
             && self.alive == other.alive
+            && self.bodies == other.bodies
+            && self.freed == other.freed
     }
 }
 
@@ -73,7 +89,7 @@ impl Eq for Map {}
 /// without one call per vertex).
 #[derive(Serialize, Deserialize)]
 #[serde(rename = "Map")]
-struct Flat<'a, T, F, A> {
+struct Flat<'a, T, F, A, B> {
     visited: Bitset,
     known: Bitset,
     /// Borrowed from the frame when the format allows (postcard does): a
@@ -83,6 +99,8 @@ struct Flat<'a, T, F, A> {
     targets: T,
     failed: F,
     alive: A,
+    bodies: B,
+    freed: B,
 }
 
 impl Clone for Map {
@@ -92,6 +110,8 @@ impl Clone for Map {
             targets: self.targets.clone(),
             failed: self.failed.clone(),
             alive: self.alive.clone(),
+            bodies: self.bodies.clone(),
+            freed: self.freed.clone(),
             base: self.base,
         }
     }
@@ -117,6 +137,8 @@ impl Serialize for Map {
             targets: &self.targets,
             failed: &self.failed,
             alive: &self.alive,
+            bodies: &self.bodies,
+            freed: &self.freed,
         }
         .serialize(s)
     }
@@ -124,11 +146,19 @@ impl Serialize for Map {
 
 impl<'de> Deserialize<'de> for Map {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let f = Flat::<Bitset, Vec<Failure>, Vec<(RobotId, u32)>>::deserialize(d)?;
+        let f = Flat::<Bitset, Vec<Failure>, Vec<(RobotId, u32)>, Vec<(VertexId, u32)>>::deserialize(d)?;
         let cells = Tiles::from_flat(f.visited.words(), f.known.words(), &f.open).ok_or_else(|| {
             serde::de::Error::custom("map bitsets sized for another grid than its edge masks, or set past the end")
         })?;
-        Ok(Map { cells, targets: f.targets, failed: f.failed, alive: f.alive, base: None })
+        Ok(Map {
+            cells,
+            targets: f.targets,
+            failed: f.failed,
+            alive: f.alive,
+            bodies: f.bodies,
+            freed: f.freed,
+            base: None,
+        })
     }
 }
 
@@ -139,6 +169,8 @@ impl Map {
             targets: Bitset::new(targets),
             failed: Vec::new(),
             alive: Vec::new(),
+            bodies: Vec::new(),
+            freed: Vec::new(),
             base: None,
         }
     }
@@ -209,6 +241,8 @@ impl Map {
         self.targets.clone_from(&source.targets);
         self.failed.clone_from(&source.failed);
         self.alive.clone_from(&source.alive);
+        self.bodies.clone_from(&source.bodies);
+        self.freed.clone_from(&source.freed);
         self.base = source.base;
     }
 
@@ -242,26 +276,65 @@ impl Map {
     fn merge_lists(&mut self, other: &Map) {
         self.targets.union_growing(&other.targets);
         for f in &other.failed {
-            self.add_failed(f.robot, f.at, f.round);
+            self.merge_failure(*f);
         }
         for &(id, round) in &other.alive {
             self.revive(id, round);
         }
+        for &(v, round) in &other.bodies {
+            latest(&mut self.bodies, v, round);
+        }
+        for &(v, round) in &other.freed {
+            latest(&mut self.freed, v, round);
+        }
+    }
+
+    /// A sonar found a silent robot on `v` in `round`.
+    pub fn add_body(&mut self, v: VertexId, round: u32) {
+        latest(&mut self.bodies, v, round);
+    }
+
+    /// A sonar found `v` free in `round`: a body found there up to that
+    /// round no longer counts. Recorded only where a body was known.
+    pub fn free_body(&mut self, v: VertexId, round: u32) {
+        if self.bodies.binary_search_by_key(&v, |b| b.0).is_ok() {
+            latest(&mut self.freed, v, round);
+        }
+    }
+
+    /// Vertices holding a silent body now.
+    pub fn bodies_now(&self) -> impl Iterator<Item = VertexId> + '_ {
+        self.bodies.iter().filter(|b| round_of(&self.freed, b.0).is_none_or(|r| r < b.1)).map(|b| b.0)
     }
 
     /// Declares `id` failed on `at` in `round`. Of two declarations the
     /// later round wins (the lower vertex on a tie, so merging stays
     /// independent of order).
     pub fn add_failed(&mut self, id: RobotId, at: VertexId, round: u32) {
-        let f = Failure { robot: id, at, round };
-        match self.failed.binary_search_by_key(&id, |f| f.robot) {
+        self.merge_failure(Failure { robot: id, at, round, seen: false });
+    }
+
+    /// Of two declarations the later round wins (the lower vertex on a
+    /// tie); the same declaration is seen if either says so.
+    fn merge_failure(&mut self, f: Failure) {
+        match self.failed.binary_search_by_key(&f.robot, |g| g.robot) {
             Ok(k) => {
-                let old = self.failed[k];
-                if (round, std::cmp::Reverse(at)) > (old.round, std::cmp::Reverse(old.at)) {
-                    self.failed[k] = f;
+                let old = &mut self.failed[k];
+                let order = |g: &Failure| (g.round, std::cmp::Reverse(g.at));
+                if order(&f) > order(old) {
+                    *old = f;
+                } else if order(&f) == order(old) {
+                    old.seen |= f.seen;
                 }
             }
             Err(k) => self.failed.insert(k, f),
+        }
+    }
+
+    /// The sonar found `id`'s vertex occupied: its failure is seen.
+    pub fn see_failed(&mut self, id: RobotId) {
+        if let Ok(k) = self.failed.binary_search_by_key(&id, |f| f.robot) {
+            self.failed[k].seen = true;
         }
     }
 
@@ -294,7 +367,12 @@ impl Map {
 
     /// Robots failed now, with the vertex each blocks for good.
     pub fn failed_now(&self) -> impl Iterator<Item = (RobotId, VertexId)> + '_ {
-        self.failed.iter().filter(|f| self.alive_round(f.robot).is_none_or(|r| r < f.round)).map(|f| (f.robot, f.at))
+        self.failures_now().map(|f| (f.robot, f.at))
+    }
+
+    /// [`Map::failed_now`] with whether each one's body was seen.
+    pub fn failures_now(&self) -> impl Iterator<Item = Failure> + '_ {
+        self.failed.iter().filter(|f| self.alive_round(f.robot).is_none_or(|r| r < f.round)).copied()
     }
 
     /// Whether some robot counts as failed now.
@@ -338,6 +416,12 @@ impl Map {
         if self.failed.windows(2).any(|w| w[0].robot >= w[1].robot) || self.alive.windows(2).any(|w| w[0].0 >= w[1].0) {
             return Err("map failure list not sorted by robot".into());
         }
+        if self.bodies.windows(2).any(|w| w[0].0 >= w[1].0) || self.freed.windows(2).any(|w| w[0].0 >= w[1].0) {
+            return Err("map body list not sorted by vertex".into());
+        }
+        if self.bodies.iter().chain(&self.freed).any(|b| b.0 as usize >= vertices) {
+            return Err("map names a vertex that does not exist".into());
+        }
         if self.failed.iter().any(|f| f.robot as usize >= robots || f.at as usize >= vertices)
             || self.alive.iter().any(|a| a.0 as usize >= robots)
         {
@@ -345,6 +429,18 @@ impl Map {
         }
         Ok(())
     }
+}
+
+/// `list[key] := max(list[key], round)`, `list` sorted by key.
+fn latest(list: &mut Vec<(u32, u32)>, key: u32, round: u32) {
+    match list.binary_search_by_key(&key, |e| e.0) {
+        Ok(k) => list[k].1 = list[k].1.max(round),
+        Err(k) => list.insert(k, (key, round)),
+    }
+}
+
+fn round_of(list: &[(u32, u32)], key: u32) -> Option<u32> {
+    list.binary_search_by_key(&key, |e| e.0).ok().map(|k| list[k].1)
 }
 
 /// Serde for bytes as one byte string (`serialize_bytes`), borrowed from
@@ -408,6 +504,8 @@ mod tests {
         targets: &'a Bitset,
         failed: &'a Vec<Failure>,
         alive: &'a Vec<(RobotId, u32)>,
+        bodies: &'a Vec<(VertexId, u32)>,
+        freed: &'a Vec<(VertexId, u32)>,
     }
 
     #[test]
@@ -425,7 +523,16 @@ mod tests {
         known.set(299);
         open[7] = 0x81;
         open[299] = 0xff;
-        let plain = Plain { visited, known, open, targets: &m.targets, failed: &m.failed, alive: &m.alive };
+        let plain = Plain {
+            visited,
+            known,
+            open,
+            targets: &m.targets,
+            failed: &m.failed,
+            alive: &m.alive,
+            bodies: &m.bodies,
+            freed: &m.freed,
+        };
         let bytes = postcard::to_allocvec(&m).unwrap();
         assert_eq!(bytes, postcard::to_allocvec(&plain).unwrap());
         assert_eq!(postcard::from_bytes::<Map>(&bytes).unwrap(), m);
@@ -653,7 +760,14 @@ mod tests {
         assert_eq!(ab.failed_now().count(), 0);
         // A later declaration counts again.
         ab.add_failed(3, 6, 4);
-        assert_eq!(ab.failure(3), Some(Failure { robot: 3, at: 6, round: 4 }));
+        assert_eq!(ab.failure(3), Some(Failure { robot: 3, at: 6, round: 4, seen: false }));
+        // Seen by one robot, seen in every map that merges its own.
+        let mut seen = ab.clone();
+        seen.see_failed(3);
+        ab.merge(&seen);
+        assert!(ab.failure(3).is_some_and(|f| f.seen));
+        ab.merge(&a);
+        assert!(ab.failure(3).is_some_and(|f| f.seen), "an unseen copy of the same declaration");
         assert_eq!(ab.failed_now().collect::<Vec<_>>(), vec![(3, 6)]);
         // Targets grow to the larger set.
         let mut t = Map::new(10, 0);

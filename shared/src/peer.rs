@@ -168,9 +168,10 @@ pub struct Peer<'g> {
     sensed_at: Time,
     /// It sensed after its exchange window ended: it stays this slot.
     late: bool,
-    /// It halted cut off, holding these robots failed: once one of them is
-    /// heard again it checks whether it still is cut off, and resumes if not.
-    cut_off_by: Option<Vec<RobotId>>,
+    /// It halted cut off: at every slot's start it checks whether it still
+    /// is, and resumes if not (a robot it held failed was heard again, a
+    /// silent body moved, a parked neighbour left).
+    cut_off: bool,
     /// Its map of an earlier `Map` frame, with the frame's round, to copy
     /// its map into for the next.
     spare: Option<(Map, u32)>,
@@ -201,7 +202,7 @@ impl<'g> Peer<'g> {
             slot_start: 0,
             widen: 0,
             late: false,
-            cut_off_by: None,
+            cut_off: false,
             spare: None,
         }
     }
@@ -332,18 +333,13 @@ impl<'g> Peer<'g> {
         robot.sense(tick.round, &Sensing { open: tick.open, occupied: tick.occupied, targets: &tick.targets });
         let me = robot.id();
         let mut halted = self.phase == Phase::Halted;
-        let revived = self.cut_off_by.as_ref().is_some_and(|ids| ids.iter().any(|&id| !robot.map().is_failed(id)));
-        if halted && revived && !self.stop_known {
-            // A robot it held failed when it halted cut off was heard again:
-            // suspicion is never for good. It resumes unless it is still cut
-            // off, by the failures left (then only their revival wakes it).
-            if robot.stop_rule() == Some(Stop::CutOff) {
-                self.cut_off_by = Some(robot.map().failed_now().map(|(id, _)| id).collect());
-            } else {
-                halted = false;
-                self.cut_off_by = None;
-                out.motor = Some((Motor::Resume, now));
-            }
+        if halted && self.cut_off && !self.stop_known && robot.stop_rule() != Some(Stop::CutOff) {
+            // Suspicion is never for good: what cut it off is gone. It
+            // searches again (and if its map is complete, its exchange
+            // ends the search like anyone's).
+            halted = false;
+            self.cut_off = false;
+            out.motor = Some((Motor::Resume, now));
         }
         // Woken after the exchange (frozen, or slow): it still sends its map
         // (those that hear it wait for its answer like any other's), and
@@ -607,7 +603,7 @@ impl<'g> Peer<'g> {
     }
 
     /// Stops searching: on its own rule `stop`, or (`None`) on a stop it
-    /// heard, which it relays. For good, but for a cut-off (see `cut_off_by`).
+    /// heard, which it relays. For good, but for a cut-off (see `cut_off`).
     fn halt(&mut self, now: Time, stop: Option<Stop>, out: &mut Output<Frame>) {
         let ends_search = stop.is_none_or(Stop::ends_search);
         let relayed = stop.is_none();
@@ -619,7 +615,7 @@ impl<'g> Peer<'g> {
             }
         }
         self.phase = Phase::Halted;
-        self.cut_off_by = (!ends_search).then(|| robot.map().failed_now().map(|(id, _)| id).collect());
+        self.cut_off = !ends_search;
         out.motor = Some((Motor::Halt, now));
         out.notes.push(Note::Stopped { ends_search, relayed, exhausted });
         if ends_search {
@@ -641,13 +637,18 @@ impl<'g> Peer<'g> {
         let timing = self.cfg.timing;
         let robot = self.robot.as_mut().expect("started");
         if robot.choice().is_none() {
-            if self.late || now >= self.deadline + timing.wait / 2 {
+            // Alone it needs nobody's answer and commits at once; a robot
+            // it expected but missed may answer late, and waiting for that
+            // would take another wake-up, far past the slot's limit.
+            let alone = !self.missed_any && self.heard.iter().all(|h| h.halted);
+            if self.late || (now >= self.deadline + timing.wait / 2 && !alone) {
                 // Woken far past the time it asked for (slow, or thawed):
                 // those that waited on it chose without it long ago, and a
                 // choice now could not gather its acknowledgements within
                 // the slot. It stays, which is safe whatever the others do
                 // (nobody enters a vertex whose robot did not announce
-                // leaving), and tells them so.
+                // leaving), and tells them so. Alone, it has nobody to
+                // ask: a robot slow for good must still search.
                 robot.stay();
             } else if now >= self.deadline && !robot.ready() {
                 let late: Vec<RobotId> = robot.waiting_for().collect();

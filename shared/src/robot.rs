@@ -124,9 +124,11 @@ pub struct Robot<'g> {
     next: Option<VertexId>,
     /// Neighbours whose announced choices the last choice avoided.
     accounted: Vec<RobotId>,
-    /// Vertices where the sonar keeps finding a robot nobody hears: bodies
-    /// of robots this one never knew. Its own knowledge, not spread.
-    bodies: Vec<VertexId>,
+    /// Neighbours whose maps say they halted cut off, and where they stand.
+    /// They block moves, not the cut-off test: each would search again
+    /// once it is no longer cut off itself, and counting them made robots
+    /// halted next to each other cut each other off for good.
+    parked: Vec<(RobotId, VertexId)>,
     /// The policy's choice rule (step 5).
     rule: Box<dyn ChoiceRule>,
     /// For the stop rule's reachability test.
@@ -182,7 +184,7 @@ impl<'g> Robot<'g> {
             occupied_now: 0,
             next: None,
             accounted: Vec::with_capacity(8),
-            bodies: Vec::new(),
+            parked: Vec::new(),
             rule,
             claims: Vec::new(),
             merged: Vec::new(),
@@ -273,6 +275,36 @@ impl<'g> Robot<'g> {
         self.map.record_sensing(self.grid, self.pos, s.open);
         self.learn_targets(s.targets);
         self.nbrs.clear();
+        if !(self.map.bodies.is_empty() && self.parked.is_empty()) || self.map.any_failed() {
+            self.map.free_body(self.pos, round);
+            self.look_around(s.occupied);
+        }
+    }
+
+    /// What the sonar says of robots thought to stand still nearby. Nobody
+    /// stands where it finds free: no body, no halted robot (a halted robot,
+    /// which senses but has no exchange, learns it here), and no failed
+    /// robot, whose declaration that refutes (it went unheard, and moved
+    /// on). A failed robot's vertex found occupied is its body, seen.
+    fn look_around(&mut self, occupied: u8) {
+        for (d, &v) in self.grid.neighbors(self.pos)[..self.grid.degree()].iter().enumerate() {
+            if v == crate::grid::NONE {
+                continue;
+            }
+            let free = occupied >> d & 1 == 0;
+            if free {
+                self.clear_body(v);
+            }
+            loop {
+                let found = self.map.failures_now().find(|f| f.at == v && (free || !f.seen));
+                let Some(f) = found else { break };
+                if free {
+                    self.map.revive(f.robot, self.round);
+                } else {
+                    self.map.see_failed(f.robot);
+                }
+            }
+        }
     }
 
     /// Targets others found (a flood, step 1).
@@ -315,10 +347,11 @@ impl<'g> Robot<'g> {
         n.at = at;
         n.map_in = true;
         n.halted |= halted;
+        self.parked.retain(|p| p.0 != from);
         if halted {
-            // A robot that stopped searching stands still: its vertex is
-            // blocked like a body's, until it is heard searching again.
-            self.mark_body(at);
+            // A robot that stopped searching stands still until it is heard
+            // searching again.
+            self.parked.push((from, at));
         } else {
             self.clear_body(at);
         }
@@ -339,6 +372,8 @@ impl<'g> Robot<'g> {
             // better, and its map now says so to everyone it meets.
             self.map.revive(self.cfg.id, self.round);
         }
+        // Likewise found as a silent body where it stands.
+        self.map.free_body(self.pos, self.round);
         self.refresh_failed();
         true
     }
@@ -393,8 +428,8 @@ impl<'g> Robot<'g> {
         // unvisited vertices off; those can never be visited and must not
         // keep this robot going. Only with failures, so a failure-free run
         // decides exactly as before.
-        if self.map.any_failed() || !self.bodies.is_empty() {
-            self.collect_blocked();
+        if self.faults_known() {
+            self.collect_blocked(false, false);
             if self.paths.step_to_unvisited(self.grid, &self.map, self.pos, &self.blocked_now).is_none() {
                 return Some(Stop::CutOff);
             }
@@ -417,26 +452,42 @@ impl<'g> Robot<'g> {
     /// A silent robot stands on `v` (the sonar finds it, nobody hears it):
     /// it blocks `v` like a failed robot until the sonar finds `v` free.
     pub fn mark_body(&mut self, v: VertexId) {
-        if (v as usize) < self.grid.len() && !self.bodies.contains(&v) {
-            self.bodies.push(v);
+        if (v as usize) < self.grid.len() {
+            self.map.add_body(v, self.round);
         }
+    }
+
+    /// Whether it knows of a failed robot or a silent body: the rules for
+    /// survivors apply. Never in a failure-free run.
+    fn faults_known(&self) -> bool {
+        self.map.any_failed() || self.map.bodies_now().next().is_some()
     }
 
     /// The sonar finds `v` free.
     pub fn clear_body(&mut self, v: VertexId) {
-        self.bodies.retain(|&b| b != v);
+        self.map.free_body(v, self.round);
+        self.parked.retain(|p| p.1 != v);
     }
 
     /// Vertices blocked for good as far as this robot knows: failed
     /// robots' and silent bodies'.
     fn blocked(&self) -> impl Iterator<Item = VertexId> + '_ {
-        self.map.failed_now().map(|(_, at)| at).chain(self.bodies.iter().copied())
+        self.map.failed_now().map(|(_, at)| at).chain(self.map.bodies_now())
     }
 
-    fn collect_blocked(&mut self) {
+    /// `blocked_now` := the vertices blocked for good: silent bodies',
+    /// failed robots' whose body was seen, with `unseen` the other failed
+    /// robots' too, and with `parked` halted neighbours' (they block moves
+    /// until they search again). The cut-off test takes neither: a robot
+    /// cut off only by unseen failures goes and looks.
+    fn collect_blocked(&mut self, unseen: bool, parked: bool) {
         let mut b = std::mem::take(&mut self.blocked_now);
         b.clear();
-        b.extend(self.blocked());
+        b.extend(self.map.failures_now().filter(|f| unseen || f.seen).map(|f| f.at));
+        b.extend(self.map.bodies_now());
+        if parked {
+            b.extend(self.parked.iter().map(|p| p.1));
+        }
         self.blocked_now = b;
     }
 
@@ -585,7 +636,10 @@ impl<'g> Robot<'g> {
     /// Step 5 proper: the policy's rule picks among `cands`; anything but
     /// a candidate is staying.
     fn pick(&mut self, cands: &[VertexId]) -> Option<VertexId> {
-        self.collect_blocked();
+        if let Some(step) = self.survivor_step(cands) {
+            return Some(step);
+        }
+        self.collect_blocked(true, true);
         let mut views = std::mem::take(&mut self.views);
         views.clear();
         views.extend(self.nbrs.iter().map(|n| NeighbourView {
@@ -606,6 +660,36 @@ impl<'g> Robot<'g> {
         let c = self.rule.choose(&view, &mut self.rng).filter(|c| cands.contains(c));
         self.views = views;
         c
+    }
+
+    /// Once failures are known, a robot with no unvisited vertex next to it
+    /// steps towards the nearest one it can reach, past failures nobody
+    /// has seen, instead of the paper's walk over visited vertices: the
+    /// walk could take thousands of rounds to find the few vertices the
+    /// bodies' lost maps leave, and a declaration nobody checks (a live
+    /// robot unheard under loss) would cut robots off for good. Failure-free
+    /// runs never get here, so they follow the paper exactly.
+    fn survivor_step(&mut self, cands: &[VertexId]) -> Option<VertexId> {
+        if !self.faults_known() || cands.iter().any(|&c| !self.map.visited(c)) {
+            return None;
+        }
+        // Around the neighbours standing still if it can (one slow for good
+        // may stand in a corridor for ever), through them if it must.
+        self.collect_blocked(false, true);
+        let mut blocked = std::mem::take(&mut self.blocked_now);
+        let all = blocked.len();
+        for n in &self.nbrs {
+            if self.moving(n).is_none_or(|c| c == n.at) {
+                blocked.push(n.at);
+            }
+        }
+        let mut step = self.paths.step_to_unvisited(self.grid, &self.map, self.pos, &blocked);
+        if step.is_none() {
+            blocked.truncate(all);
+            step = self.paths.step_to_unvisited(self.grid, &self.map, self.pos, &blocked);
+        }
+        self.blocked_now = blocked;
+        step.filter(|s| cands.contains(s))
     }
 
     /// Step 6 done: the world moved this robot to `to`.
@@ -641,13 +725,24 @@ mod tests {
         // A failed robot elsewhere changes nothing.
         r.declare_failed(4, g.neighbors(v)[3], 0);
         assert_eq!(r.stop_rule(), None);
-        // One standing on that vertex blocks it for good: nothing is left
-        // this robot can reach, which ends its own search only.
+        // One declared on that vertex: until its body is seen there, the
+        // robot goes and looks.
         r.declare_failed(5, g.neighbors(v)[0], 0);
+        assert_eq!(r.stop_rule(), None);
+        // The sonar finds it there: it blocks the vertex for good, nothing
+        // is left this robot can reach, which ends its own search only.
+        r.sense(1, &Sensing { open: 1, occupied: 1, targets: &[] });
+        assert!(r.map().failure(5).is_some_and(|f| f.seen));
         assert_eq!(r.stop_rule(), Some(Stop::CutOff));
         assert!(!Stop::CutOff.ends_search());
         // Heard alive again: the vertex is free once more.
-        r.map_mut().revive(5, 1);
+        r.map_mut().revive(5, 2);
+        assert_eq!(r.stop_rule(), None);
+        // Declared again, and the sonar finds the vertex free: nobody
+        // stands there, so the declaration was wrong.
+        r.declare_failed(5, g.neighbors(v)[0], 3);
+        r.sense(4, &Sensing { open: 1, occupied: 0, targets: &[] });
+        assert!(!r.map().is_failed(5));
         assert_eq!(r.stop_rule(), None);
     }
 }

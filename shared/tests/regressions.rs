@@ -25,6 +25,12 @@ fn slow(ms: u64) -> FaultKind {
 /// Runs `cfg` on `cave` with `robots` robots and checks that the search
 /// ended complete, by a stop, with no collision and no forced slot.
 fn completes(robots: usize, cfg: RunConfig, replay: &str) {
+    ends(robots, cfg, replay, &["stop"]);
+}
+
+/// [`completes`], ended by one of `endings`: `cut_off` when a body walls
+/// off the rest (complete then means all the survivors could reach).
+fn ends(robots: usize, cfg: RunConfig, replay: &str, endings: &[&str]) {
     let sc = Scenario::builtin("cave").unwrap();
     let world = sc.world();
     let starts = sc.start_vertices(&world, robots).unwrap();
@@ -34,7 +40,7 @@ fn completes(robots: usize, cfg: RunConfig, replay: &str) {
         "ended by {} at round {}, {} of {} targets, {} collisions, {} forced slots\n  replay: gridswarm simulate --scenario cave --robots {robots} {replay}",
         p.ended_by, r.rounds, r.targets_found, r.targets_total, r.collisions, p.forced_slots
     );
-    assert!(r.complete && p.ended_by == "stop", "{what}");
+    assert!(r.complete && endings.contains(&p.ended_by.as_str()), "{what}");
     assert!(r.collisions == 0 && p.forced_slots == 0, "{what}");
 }
 
@@ -70,7 +76,8 @@ fn a_robot_slow_by_seconds_does_not_force_a_slot_shut() {
     cfg.radio = Radio { delay: 7_000, jitter: 33_000, ..Radio::default() };
     let replay = "--algorithm frontier --seed 1081004315 --situation 2 --freeze 3@37+0.260:40+0.854 \
                   --kill 1@28+0.290 --slow 2@18+2.178:4704 --delay 7:33";
-    completes(8, cfg, replay);
+    // Robot 1 dies in the corridor up from chamber B, the only way on.
+    ends(8, cfg, replay, &["stop", "cut_off"]);
 }
 
 #[test]
@@ -108,4 +115,23 @@ fn maps_later_than_the_window_widen_it_instead_of_reading_as_dead_neighbours() {
     let replay = "gridswarm simulate --robots 13 --seed 3 --delay 60";
     assert!(r.complete, "incomplete: {replay}");
     assert_eq!(r.protocol.false_suspicions, 0, "{replay}");
+}
+
+#[test]
+fn one_false_declaration_under_loss_does_not_halt_the_others_for_good() {
+    // Robot 29, unheard twice in a row under 5% loss, was declared failed
+    // in the corridor up from chamber B and moved on out of range; every
+    // other robot halted cut off behind it and never learnt it had gone:
+    // 9,461 rounds against 103 without loss. Robots cut off by a failure
+    // nobody has seen now go and look, and the sonar finds the vertex free.
+    let mut cfg = config(Policy::Repulsive, 14552736588203279400, Situation::One, vec![]);
+    cfg.radio = Radio { loss: 0.05, ..Radio::default() };
+    let mut sc = Scenario::builtin("cave").unwrap();
+    sc.params.retries = 1;
+    let world = sc.world();
+    let r = engine::run(&world, &sc.start_vertices(&world, 30).unwrap(), &cfg);
+    let replay = "gridswarm simulate --scenario cave --robots 30 --seed 14552736588203279400 --loss 0.05 --retries 1";
+    assert!(r.complete && r.protocol.ended_by == "stop", "ended by {}: {replay}", r.protocol.ended_by);
+    assert!(r.protocol.false_suspicions > 0, "the case no longer has a false declaration: {replay}");
+    assert!(r.rounds <= 150, "{} rounds (103 without loss): {replay}", r.rounds);
 }

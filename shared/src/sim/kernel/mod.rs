@@ -631,14 +631,41 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
 
 impl<'w, P: Clone + Framed> Kernel<'w, P> {
     /// Whether nobody searching is final: robots halted cut off still
-    /// exchange maps, and one resumes when a robot it held failed is heard
-    /// again, news that takes up to one slot a hop. Slots in a row with no
-    /// robot searching but some halted and running are counted; after one
-    /// more than such robots, nothing can change any more.
+    /// exchange maps, and one resumes once what cut it off is gone (a
+    /// robot it held failed heard again, a body found gone), news that
+    /// takes one slot a hop. Slots in a row with no robot searching but
+    /// some halted and running are counted; once they exceed the most hops
+    /// between two such robots, every map holds what the others hold, and
+    /// nothing can change any more.
     fn quiet_enough(&mut self) -> bool {
-        let parked = self.bots.iter().filter(|b| b.halted && b.body == Body::Running).count();
         self.quiet += 1;
-        parked == 0 || self.quiet > parked as u32
+        let parked = self.bots.iter().any(|b| b.halted && b.body == Body::Running);
+        !parked || self.quiet > self.hops_across()
+    }
+
+    /// The most radio hops between two running robots that can reach each
+    /// other (the diameter of their radio graph, the largest over its parts).
+    fn hops_across(&self) -> u32 {
+        let running = |k: usize| self.bots[k].body == Body::Running;
+        let mut hops = vec![u32::MAX; self.bots.len()];
+        let mut queue = std::collections::VecDeque::new();
+        let mut most = 0;
+        for from in (0..self.bots.len()).filter(|&k| running(k)) {
+            hops.fill(u32::MAX);
+            hops[from] = 0;
+            queue.push_back(from);
+            while let Some(k) = queue.pop_front() {
+                most = most.max(hops[k]);
+                for &j in self.medium.links(k) {
+                    let j = j as usize;
+                    if running(j) && hops[j] == u32::MAX {
+                        hops[j] = hops[k] + 1;
+                        queue.push_back(j);
+                    }
+                }
+            }
+        }
+        most
     }
 }
 
