@@ -2,9 +2,10 @@
 //! fixed case that must end as a complete search: a robot late for its
 //! slot once stopped the search on its neighbours' announced choices
 //! (claims), livelocked `frontier` behind it, or made the world force a
-//! slot shut; robots halted cut off for good; frames later than the
-//! exchange window read as dead neighbours. Each prints the command that
-//! replays it.
+//! slot shut; robots halted cut off for good, behind each other or behind
+//! a live robot falsely declared under loss; survivors wandering for
+//! thousands of rounds; frames later than the exchange window read as dead
+//! neighbours. Each prints the command that replays it.
 
 use gridswarm::engine;
 use gridswarm::outcome::RunConfig;
@@ -134,4 +135,23 @@ fn one_false_declaration_under_loss_does_not_halt_the_others_for_good() {
     assert!(r.complete && r.protocol.ended_by == "stop", "ended by {}: {replay}", r.protocol.ended_by);
     assert!(r.protocol.false_suspicions > 0, "the case no longer has a false declaration: {replay}");
     assert!(r.rounds <= 150, "{} rounds (103 without loss): {replay}", r.rounds);
+}
+
+#[test]
+fn survivors_finish_what_the_bodies_leave_them() {
+    // 60 robots, two crashes, situation 2: robot 56, never declared, took
+    // the map of its last vertex with it, and robot 22's vertex stayed
+    // unvisited under its body. The survivors walked over visited vertices
+    // for 3,558 rounds against the fault-free twin's 30. Now the body is
+    // spread in the maps, survivors step to what is left, and the run ends
+    // once all of them are halted cut off behind the two bodies.
+    let mut cfg = config(Policy::Repulsive, 1811463231, Situation::Two, vec![]);
+    cfg.faults = vec![at(22, 8, 1809, FaultKind::Crash), at(56, 15, 0, FaultKind::Crash)];
+    let sc = Scenario::load("random:835017,targets=3").unwrap();
+    let world = sc.world();
+    let r = engine::run(&world, &sc.start_vertices(&world, 60).unwrap(), &cfg);
+    let replay = "gridswarm simulate --scenario random:835017,targets=3 --robots 60 --seed 1811463231 --situation 2 \
+                  --kill 22@8+1.809 --kill 56@15";
+    assert!(r.complete, "incomplete, ended by {}: {replay}", r.protocol.ended_by);
+    assert!(r.rounds <= 150, "{} rounds (30 without the crashes): {replay}", r.rounds);
 }
