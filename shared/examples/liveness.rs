@@ -1,7 +1,7 @@
 //! Issue 21's liveness goal, measured: with up to three crashes or freezes
 //! (and nothing else wrong), how many rounds a run takes against its
 //! fault-free twin (same scenario, team, algorithm and seed, no faults).
-//! `cargo run --release -p gridswarm --example liveness -- SEED COUNT [ALGORITHM]`
+//! `cargo run --release --example liveness -- SEED COUNT [ALGORITHM]`
 //! Cases are the simulation test's (`vopr::case`) with their radio made
 //! perfect and slow robots dropped, and RU left out (its robots are
 //! particles, with no failure detection to speak of); runs whose twin does
