@@ -8,12 +8,12 @@
 # Robot 0 of three short runs (`large` with faults and loss, `paper` in
 # situation 1) runs under callgrind; every function it entered that the
 # binary defines is listed. Symbol names carry hashes of the build (features
-# unified across the workspace, link flags, the lock file), so this is done
-# for the two agents cargo builds: `cargo build --release --workspace`'s and
-# `cargo test --release --workspace`'s (dev-dependencies unify more
-# features); lld skips the names a binary lacks. Rerun it after a change
-# of the lock file or of features (a stale list only loses memory, never
-# correctness), then check an agent's RSS (BENCHMARKS.md, distributed).
+# unified across the workspace, the profile, link flags, the lock file): the
+# agent of `cargo build --release --workspace`, which `cargo test --release
+# --workspace` reuses (tests/tests/features.rs); lld skips the names a
+# binary lacks. Rerun it after a change of the lock file, of features or of
+# the release profile (a stale list only loses memory, never correctness),
+# then check an agent's RSS (BENCHMARKS.md, distributed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=$PWD/target/release/robot-agent
@@ -46,8 +46,6 @@ profile() {
 # With a list present: its link flags take part in the hashes.
 touch robot-agent/hot-symbols.txt
 : >"$tmp/hot"
-cargo test --release --workspace --no-run
-profile
 cargo build --release --workspace
 profile
 awk '!seen[$0]++' "$tmp/hot" >robot-agent/hot-symbols.txt

@@ -13,4 +13,4 @@ cd "$(dirname "$0")/.."
 cases=${1:-100000}
 filter=${2:-}
 echo "fuzz: $cases cases per target${filter:+, only $filter}"
-PROPTEST_CASES=$cases cargo test --release -p gridswarm --test fuzz -- ${filter:+"$filter"}
+PROPTEST_CASES=$cases cargo test --release --workspace --test fuzz -- ${filter:+"$filter"}

@@ -11,4 +11,4 @@ cd "$(dirname "$0")/.."
 runs=${1:-2000000}
 seed=${2:-$(od -An -N4 -tu4 /dev/urandom | tr -d ' ')}
 echo "soak: $runs runs, seed $seed"
-VOPR_RUNS=$runs VOPR_SEED=$seed cargo test --release -p gridswarm --test vopr -- --nocapture faulty_runs
+VOPR_RUNS=$runs VOPR_SEED=$seed cargo test --release --workspace --test vopr -- --nocapture faulty_runs

@@ -6,7 +6,7 @@
 //! runs with the ratio, and messages and wake-ups per robot per round.
 //!
 //!     cargo build --release --workspace
-//!     cargo bench -p gridswarm-orchestrator --bench distributed
+//!     cargo bench --workspace --bench distributed
 //!
 //! REPS (default 3) and SIZES (default 13,50,100,200) override the plan.
 

@@ -2,7 +2,7 @@
 //! repulsive), 1 to 13 robots, 500 runs each, `paper` scenario, on every
 //! core. Target: under 5 s wall (issue 8). Prints each repetition and the median.
 //!
-//! `cargo bench -p gridswarm-orchestrator --bench fig7` (REPS=N to change
+//! `cargo bench --workspace --bench fig7` (REPS=N to change
 //! the number of repetitions, default 5).
 //!
 //! With MAPS=K, issue 8's random-map sweep instead: K maps

@@ -5,7 +5,7 @@
 //! 10,000 robots for 1,000 rounds in under 30 s. Prints wall time, rounds
 //! done and robot-rounds per second of both.
 //!
-//! `cargo bench -p gridswarm-orchestrator --bench swarm` (ROBOTS, ROUNDS,
+//! `cargo bench --workspace --bench swarm` (ROBOTS, ROUNDS,
 //! SCENARIO and SEED to change the run).
 
 use gridswarm::engine::Prepared;

@@ -4,7 +4,7 @@
 //! machine; prints each transport's round p50/p99 and the zenoh/iceoryx2
 //! ratios, and checks that both took the same rounds (the same searches).
 //!
-//!     cargo bench -p gridswarm-orchestrator --bench transports
+//!     cargo bench --workspace --bench transports
 //!
 //! REPS (default 3) and SIZES (default 13,50) override the plan.
 

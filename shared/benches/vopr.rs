@@ -1,7 +1,7 @@
 //! The deterministic simulation test's speed: RUNS faulty cases (default
 //! 100,000) on every core, REPS times (default 3), median wall time.
 //!
-//!     cargo bench -p gridswarm --bench vopr
+//!     cargo bench --workspace --bench vopr
 //!
 //! Target: at least 100,000 faulty runs in at most 60 s on 2 cores.
 

@@ -1,5 +1,5 @@
 //! Runs one case of the simulation test and prints its outcome:
-//! `GRIDSWARM_TRACE=1 cargo run --release -p gridswarm --example vopr_case -- SEED INDEX`.
+//! `GRIDSWARM_TRACE=1 cargo run --release --example vopr_case -- SEED INDEX`.
 use gridswarm::{engine, vopr};
 fn main() {
     let a: Vec<u64> = std::env::args().skip(1).map(|s| s.parse().unwrap()).collect();

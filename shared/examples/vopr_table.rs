@@ -1,6 +1,6 @@
 //! The simulation test's cases as a table, one line per case, to study
 //! what the test counts rather than what it forbids:
-//! `cargo run --release -p gridswarm --example vopr_table -- SEED FIRST COUNT`.
+//! `cargo run --release --example vopr_table -- SEED FIRST COUNT`.
 //! Columns: index, scenario, robots, algorithm, in_bound, loss, delay_ms,
 //! slow_ms (the largest), failing robots, ended_by, rounds, wall ms.
 use std::time::Instant;

@@ -3,7 +3,7 @@
 //! the data path only). Prints microseconds per frame for a small frame
 //! (a `paper` map) and a large one (a `large` map).
 //!
-//!     cargo run --release -p gridswarm-world-server --example relay_cost
+//!     cargo run --release --example relay_cost
 //!
 //! - direct: one `[u8]` publish into a service with K subscribers, and K
 //!   receives (what agent-to-agent publish-subscribe would cost);

@@ -36,8 +36,9 @@ pub enum Event {
     Signal(i32),
 }
 
-/// The directory of the running `gridswarm` binary, where `world-server`
-/// and `robot-agent` are built too. `GRIDSWARM_BIN_DIR` overrides it.
+/// The directory of the running `gridswarm` binary (symlinks resolved),
+/// where `world-server` and `robot-agent` are built (`target/release/`) or
+/// installed (`scripts/install.sh`) too. `GRIDSWARM_BIN_DIR` overrides it.
 pub fn binary(name: &str) -> Result<PathBuf, String> {
     let dir = match std::env::var_os("GRIDSWARM_BIN_DIR") {
         Some(d) => PathBuf::from(d),
@@ -51,7 +52,7 @@ pub fn binary(name: &str) -> Result<PathBuf, String> {
         Ok(path)
     } else {
         Err(format!(
-            "`{name}` not found next to gridswarm (looked for {}); build it with `cargo build --release --workspace`",
+            "`{name}` not found next to gridswarm (looked for {}); build the three programs with `cargo build --release`, or install them together with scripts/install.sh",
             path.display()
         ))
     }
