@@ -400,7 +400,7 @@ fn simulate_loss_with_retries() {
     assert!(lossy["lost"].as_u64().unwrap() > 0 && lossy["retransmissions"] == 0, "{lossy}");
     assert!(lossy["unsure"].as_u64().unwrap() > 0 && lossy["timeouts"].as_u64().unwrap() > 0, "{lossy}");
     // Without retries a loss this heavy can cost collisions (ARCHITECTURE.md,
-    // "Under loss": 4,556 per 10^6 moves at 0.3); they are counted.
+    // "Under loss": 1,582 per 10^6 moves at 0.3); they are counted.
     assert_eq!(lossy["collisions"].as_u64().unwrap() > 0, num(&lossy, "collisions_per_million_moves") > 0.0);
     assert_eq!(lossy["radio"]["loss"], 0.3);
     // Two retries: three copies of every frame, far fewer stays for want of answers.
