@@ -59,7 +59,7 @@ impl NetOptions {
         }
         let mut world = vec!["--transport".to_string(), "zenoh".into()];
         let mut agent = world.clone();
-        let listen = match (&self.remote_agents, self.listen.is_empty()) {
+        let listen: Vec<String> = match (&self.remote_agents, self.listen.is_empty()) {
             (_, false) => self.listen.clone(),
             (Some(_), true) => Vec::new(),
             (None, true) => vec![format!("tcp/127.0.0.1:{}", free_port()?)],
@@ -91,9 +91,13 @@ pub fn hand_hint(key: &str, opts: &super::RunOptions, plan: &super::Plan) -> Str
         extra += &format!(" --retries {r}");
     }
     format!(
-        "waiting for {} robot-agents; on their hosts run, for K in 0..{}:\n  robot-agent --transport zenoh --prefix {key}{connect} \
-         --scenario {} --seed {} --algorithm {}{extra} --robot K",
-        plan.robots, plan.robots, opts.scenario, opts.seed, opts.algorithm
+        "waiting for {} robot-agents; on their hosts run, once for each robot number K ({}):\n  \
+         robot-agent --transport zenoh --prefix {key}{connect} --scenario {} --seed {} --algorithm {}{extra} --robot K",
+        plan.robots,
+        gridswarm::agreement::robot_range(plan.robots),
+        opts.scenario,
+        opts.seed,
+        opts.algorithm
     )
 }
 
