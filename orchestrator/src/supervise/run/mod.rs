@@ -308,7 +308,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     drop(files);
 
     let result = summary::result_of(&plan.world, &report);
-    let extra = summary::extra(&prefix, opts, &plan, &report, &followed, killed_at_end);
+    let extra = summary::extra(&prefix, opts, (&plan, &launch), &report, &followed, killed_at_end);
     let record = RunRecord {
         scenario: &plan.scenario,
         world: &plan.world,
