@@ -5,9 +5,10 @@
 //! second claim to a number taken, naming what is wrong on both sides.
 //! The refused agent exits 2 with the world's words, and `gridswarm run`
 //! ends the run with them, exit status 2 (README's table), writing
-//! nothing. The issue's reproducers, with agents started by hand over
-//! zenoh (`--remote-agents`, as README's "Running on several machines"),
-//! and one over iceoryx2 through `--agent-bin`.
+//! nothing; a claim once the run is under way is refused, and the run
+//! stays `simulate`'s. The issue's reproducers, with agents started by
+//! hand over zenoh (`--remote-agents`, as README's "Running on several
+//! machines"), and one over iceoryx2 through `--agent-bin`.
 
 use std::fs;
 use std::os::unix::fs::PermissionsExt;
@@ -46,9 +47,15 @@ impl World {
 
     /// `robot-agent --transport zenoh --prefix KEY --connect ENDPOINT ARGS`, started.
     fn agent(&self, args: &[&str]) -> Child {
+        self.agent_with(args, &[])
+    }
+
+    /// [`World::agent`] with more variables in its environment.
+    fn agent_with(&self, args: &[&str], env: &[(&str, &str)]) -> Child {
         Command::new(bin_dir().join("robot-agent"))
             .args(["--transport", "zenoh", "--prefix", &self.key, "--connect", &self.endpoint])
             .args(args)
+            .envs(env.iter().copied())
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
@@ -242,4 +249,30 @@ fn an_agent_that_differs_is_refused_over_iceoryx2_as_over_zenoh() {
     assert!(err.starts_with("error: ") && err.contains("seed: world 3, agent 8"), "{err}");
     assert!(!out_dir.exists());
     assert_no_leftovers(&prefixes);
+}
+
+#[test]
+fn a_claim_once_the_run_is_under_way_is_refused_and_changes_nothing() {
+    let _s = serial();
+    let dir = scratch("agreement-late");
+    let (out_dir, sim) = (dir.join("run"), dir.join("sim"));
+    let run = ["--scenario", "small", "--seed", "7"];
+    let world = World::start("late1", &[&run[..], &["--robots", "2", "--out", out_dir.to_str().unwrap()]].concat());
+    // Robot 0 stops itself on the readings of slot 2: the world waits on it.
+    let hung = world.agent_with(&[&run[..], &["--robot", "0"]].concat(), &[("GRIDSWARM_AGENT_HANG", "0@2")]);
+    let real = world.agent(&[&run[..], &["--robot", "1"]].concat());
+    assert!(wait_until(GUARD, || stopped(hung.id())), "robot 0 stops in slot 2");
+    let impostor = world.agent(&[&run[..], &["--robot", "1"]].concat());
+    refused(impostor, &[&format!("already taken by pid {} on ", real.id()), "and the run is under way"]);
+    // SAFETY: kill(2) on our own child.
+    unsafe { libc::kill(hung.id() as i32, libc::SIGCONT) };
+    let out = world.end();
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    for a in [hung, real] {
+        assert_eq!(ended(a, "robot-agent").status.code(), Some(0));
+    }
+    search(&[&["simulate", "--robots", "2", "--out", sim.to_str().unwrap()][..], &run[..]].concat());
+    let (a, b) =
+        (fs::read(out_dir.join("trajectories.jsonl")).unwrap(), fs::read(sim.join("trajectories.jsonl")).unwrap());
+    assert!(!a.is_empty() && a == b, "the run is simulate's, the late claim aside");
 }
