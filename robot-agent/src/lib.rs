@@ -339,8 +339,12 @@ fn serve(args: &Args, setup: &RobotSetup, agreement: &Agreement, link: &dyn Agen
     if let Some(exit) = handshake(&agent, link, &hello, (&mut asm, &mut buf), timeout)? {
         return Ok(exit);
     }
+    // The first wake-up may have come with the verdict: read before waiting.
+    let mut first = true;
     loop {
-        link.wait(timeout);
+        if !first {
+            link.wait(timeout);
+        }
         let mut got = false;
         while link.recv(&mut buf)? {
             got = true;
@@ -351,15 +355,19 @@ fn serve(args: &Args, setup: &RobotSetup, agreement: &Agreement, link: &dyn Agen
                 Step::Nothing => {}
             }
         }
-        if !got && !link.world_alive() {
+        // Quiet after a wait: is the world still there?
+        if !got && !first && !link.world_alive() {
             return Ok(Exit::WorldGone);
         }
+        first = false;
     }
 }
 
 /// Says hello until the world's verdict on it comes: `None` accepted,
 /// otherwise how the agent ends. Everything else the world says meanwhile
-/// (wake-ups of another claimant of this robot number) is not its own.
+/// (wake-ups of another claimant of this robot number) is not its own;
+/// what comes after its verdict is left for the loop. The world does not
+/// wake it for its verdict: it looks every `timeout` (`--world-timeout-ms`).
 fn handshake(
     agent: &Agent,
     link: &dyn AgentTransport,

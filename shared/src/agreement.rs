@@ -92,6 +92,9 @@ impl Agreement {
     /// different protocol version is said alone: the rest may mean
     /// something else to the other side.
     pub fn differences(&self, agent: &Agreement) -> Vec<String> {
+        if self == agent {
+            return Vec::new();
+        }
         if self.protocol != agent.protocol {
             return vec![format!("protocol version: world {}, agent {}", self.protocol, agent.protocol)];
         }

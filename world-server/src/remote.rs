@@ -18,7 +18,8 @@
 //!
 //! Before the first slot every robot says hello with the run's agreement
 //! as it holds it ([`gridswarm::agreement`]). The world answers each with
-//! a verdict: it accepts a hello that agrees with its own, and refuses,
+//! a verdict: it accepts, once every robot has said hello, a hello that
+//! agrees with its own, and refuses at once,
 //! naming what differs on both sides, one that does not, one claiming a
 //! robot number outside the team, or a second claim to a number taken.
 //! A refusal before the first slot ends the run ([`Failure::Refused`]):
@@ -199,7 +200,7 @@ impl<'a> Remote<'a> {
                 return Err(self.call_off(why));
             }
         }
-        Ok(())
+        Ok(self.accept_all()?)
     }
 
     /// Reads the hellos that came within a short wait and answers them;
@@ -228,8 +229,9 @@ impl<'a> Remote<'a> {
         Ok(refused)
     }
 
-    /// Answers robot `r`'s hello: `Ok(true)` accepted, `Ok(false)` a
-    /// repeat (answered again) or not a hello to count, `Err` refused.
+    /// Answers robot `r`'s hello: `Ok(true)` accepted (told once every
+    /// robot is: [`Remote::accept_all`]), `Ok(false)` a repeat or not a
+    /// hello to count, `Err` refused (told at once).
     fn claim(&mut self, r: usize, h: &Hello) -> Result<Result<bool, String>, String> {
         if h.robot as usize != r || h.pid == 0 {
             self.dropped += 1;
@@ -255,19 +257,29 @@ impl<'a> Remote<'a> {
         let fresh = self.claims[r].is_none();
         self.claims[r] = Some(Claim { nonce: h.nonce, pid: h.pid, host: h.host.clone() });
         self.pids[r] = h.pid;
-        // A live robot that cannot be woken would never hear the world.
-        if !self.verdict(r, h.nonce, None)? {
-            self.unreachable(r)?;
-        }
         Ok(Ok(fresh))
     }
 
-    /// Posts a verdict into robot `r`'s inbox; false if the wake-up that
-    /// goes with it reached no one.
-    fn verdict(&self, r: usize, nonce: u64, refusal: Option<String>) -> Result<bool, String> {
+    /// Accepts every robot, once all have said hello. Not before: over
+    /// iceoryx2 a robot's first message and first wake-up each cost the
+    /// world a connection, better spent reading every hello first (a
+    /// world short of descriptors then says so at its first wake-up,
+    /// `cannot wake robot`, instead of missing hellos).
+    fn accept_all(&self) -> Result<(), String> {
+        for (r, c) in self.claims.iter().enumerate() {
+            if let Some(c) = c {
+                self.verdict(r, c.nonce, None)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Posts a verdict into robot `r`'s inbox. The robot is not woken: an
+    /// agent waiting for its verdict looks at its inbox every
+    /// `--world-timeout-ms` anyway, and its first wake-up follows.
+    fn verdict(&self, r: usize, nonce: u64, refusal: Option<String>) -> Result<(), String> {
         let bytes = wire::encode_to_agent(&ToAgent::Verdict(Verdict { nonce, refusal }));
-        self.ports.post(r, HANDSHAKE, &bytes)?;
-        Ok(self.ports.notify(r))
+        self.ports.post(r, HANDSHAKE, &bytes)
     }
 
     /// Refuses every hello sent under a robot number outside the team;
@@ -327,10 +339,13 @@ impl<'a> Remote<'a> {
     }
 
     /// A hello once the run is under way: a repeat of an accepted one is
-    /// dropped, any other claim refused (the run goes on without it).
+    /// accepted again (its verdict may have been lost), any other claim
+    /// refused (the run goes on without it).
     fn late_hello(&mut self, r: usize, h: &Hello) {
         match &self.claims[r] {
-            Some(c) if c.nonce == h.nonce => {}
+            Some(c) if c.nonce == h.nonce => {
+                let _ = self.verdict(r, h.nonce, None);
+            }
             _ => {
                 let taken = self.claims[r].as_ref().map(|c| (c.pid, agreement::shown(&c.host).into_owned()));
                 let why = match taken {
