@@ -20,7 +20,7 @@ use crate::scenario::Scenario;
 /// The version of the world-agent messages ([`crate::wire`]). Version 1
 /// was the hello of a robot number and a process id alone; version 2
 /// added the agreement and the world's verdict. A hello starts with its
-/// version, so a world reads it whatever follows.
+/// version, so that a later world can read it whatever follows.
 pub const PROTOCOL_VERSION: u32 = 2;
 
 /// A scenario as the processes of a run name it: its `name`, and the
