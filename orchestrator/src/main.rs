@@ -272,7 +272,8 @@ const EXIT_STATUS: &str = "Exit status:
   1  error: bad scenario or value, unwritable output, a failed child process, too low an open-file
      limit, interrupted by SIGINT, SIGTERM, SIGHUP or SIGQUIT
   2  usage error: unknown flag or algorithm, a value out of range, faults that do not fit the run, flags
-     that do not fit together (e.g. run --algorithm lfp, --listen without --transport zenoh)
+     that do not fit together (e.g. run --algorithm lfp, --listen without --transport zenoh), a
+     robot-agent the world refuses (its seed, scenario, ... differ from the world's)
   3  the search ended incomplete (simulate, run: every robot failed, cut off, a stop that knew
      targets unfound (exhausted) or came on an incomplete search (false_stop), or the round limit
      reached, --max-rounds or simulate's work budget; its outputs are written), or `check` found a

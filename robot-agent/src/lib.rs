@@ -14,10 +14,19 @@
 //! checked whenever the world is quiet for `--world-timeout-ms`, or when a
 //! notification of it reaches no one) it exits 3.
 //!
+//! Its hello presents the run's agreement as it holds it (key, scenario
+//! hash, seed, algorithm, situation, parameters, protocol version;
+//! [`gridswarm::agreement`]), and it waits for the world's verdict before
+//! it does anything else, saying hello again every [`HELLO_AGAIN`] until
+//! the verdict comes (a lost message over zenoh). Refused (it differs from
+//! the world, its robot number is outside the team or taken), it prints
+//! the world's reason, `robot-agent K: error: refused by the world: ...`,
+//! and exits 2; so it does if the world calls the run off later.
+//!
 //! Its setup comes from a file the orchestrator wrote (`--setup`), or,
 //! for an agent started by hand on another host, is derived on the spot
 //! from what the orchestrator derives it from: `--scenario`, `--seed`,
-//! `--robot` and the run's overrides ([`derived_setup`]); like flashing
+//! `--robot` and the run's overrides ([`derived`]); like flashing
 //! firmware, and the scenario's world is dropped once the setup is made. Errors: one line `robot-agent K: error: ...`, exit status 1;
 //! the orchestrator ends the run on them (a wake-up of a live world that
 //! reaches no one is one: the run would otherwise crawl on time-outs).
@@ -37,6 +46,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
+use gridswarm::agreement::{Agreement, ScenarioId};
 use gridswarm::choice::registry::{self, Factory};
 use gridswarm::grid::Grid;
 use gridswarm::ipc::{self, names};
@@ -47,10 +57,12 @@ use gridswarm::peer::Peer;
 use gridswarm::policy::Policy;
 use gridswarm::protocol::{self, Frame, Limits};
 use gridswarm::scenario::Scenario;
-use gridswarm::setup::RobotSetup;
+use gridswarm::setup::{RobotSetup, SetupFile};
 use gridswarm::sim::{Note, Output};
 use gridswarm::transport::{AgentTransport, Transport};
-use gridswarm::wire::{self, AgentOutput, Assembler, Bytes, ToAgent, ToWorld, Wake, WireLimits, WireSend};
+use gridswarm::wire::{
+    self, AgentOutput, Assembler, Bytes, Hello, ToAgent, ToWorld, Verdict, Wake, WireLimits, WireSend, HANDSHAKE,
+};
 use iceoryx2::prelude::*;
 
 #[derive(Parser, Debug)]
@@ -109,7 +121,12 @@ struct Args {
 enum Exit {
     Done,
     WorldGone,
+    /// The world refused this agent, for this reason.
+    Refused(String),
 }
+
+/// How often an agent says hello again while no verdict has come.
+pub const HELLO_AGAIN: Duration = Duration::from_secs(2);
 
 /// The error of a wake-up of the world that reached no one.
 const UNREACHABLE: &str = "cannot notify the world: its listener cannot be reached";
@@ -167,9 +184,18 @@ impl Ports {
     }
 }
 
+/// What the agent does with a message of the world.
+enum Step {
+    Answer(AgentOutput),
+    Exit(Exit),
+    Nothing,
+}
+
 /// One robot: its protocol state and what it checks the world's words against.
 struct Agent<'g> {
     peer: Peer<'g>,
+    /// Its hello's: the world's verdicts name it.
+    nonce: u64,
     /// The slot on whose readings to stop itself (testing hook).
     hang_at: Option<u32>,
     limits: WireLimits,
@@ -178,13 +204,22 @@ struct Agent<'g> {
 }
 
 impl Agent<'_> {
-    /// The answer to one message of the world (`None`: `End`).
-    fn answer(&mut self, seq: u64, bytes: &[u8]) -> Option<AgentOutput> {
+    /// What to do with one message of the world.
+    fn answer(&mut self, seq: u64, bytes: &[u8]) -> Step {
         match wire::decode_to_agent(bytes, &self.limits) {
-            Ok(ToAgent::End) => None,
-            Ok(ToAgent::Wake(w)) => Some(self.wake(w)),
+            Ok(ToAgent::End) => Step::Exit(Exit::Done),
+            Ok(ToAgent::Wake(w)) => Step::Answer(self.wake(w)),
+            // The world called the run off.
+            Ok(ToAgent::Verdict(Verdict { nonce, refusal: Some(why) })) if nonce == self.nonce => {
+                Step::Exit(Exit::Refused(why))
+            }
+            // Another claimant's verdict, or a repeat of this one's.
+            Ok(ToAgent::Verdict(_)) => Step::Nothing,
             // An answer still goes back, or the world would wait for it.
-            Err(_) => Some(AgentOutput { seq, notes: vec![Note::Malformed], ..Default::default() }),
+            Err(_) if seq != HANDSHAKE => {
+                Step::Answer(AgentOutput { seq, notes: vec![Note::Malformed], ..Default::default() })
+            }
+            Err(_) => Step::Nothing,
         }
     }
 
@@ -233,12 +268,12 @@ fn hang_at(robot: usize) -> Option<u32> {
     })
 }
 
-fn read_setup(path: &PathBuf) -> Result<RobotSetup, String> {
+fn read_setup(path: &PathBuf) -> Result<(RobotSetup, Agreement), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
-    let setup: RobotSetup = serde_json::from_str(&text).map_err(|e| format!("`{}`: {e}", path.display()))?;
+    let file: SetupFile = serde_json::from_str(&text).map_err(|e| format!("`{}`: {e}", path.display()))?;
     // A policy travels by name: this agent must have the rule.
-    registry::runnable(setup.policy)?;
-    Ok(setup)
+    registry::runnable(file.setup.policy)?;
+    Ok((file.setup, file.agreement))
 }
 
 /// The names of the grid algorithms this process can run.
@@ -249,7 +284,7 @@ fn rule_names() -> Vec<&'static str> {
         .collect()
 }
 
-fn run(args: &Args, setup: &RobotSetup) -> Result<Exit, String> {
+fn run(args: &Args, setup: &RobotSetup, agreement: &Agreement) -> Result<Exit, String> {
     ipc::quiet_logs();
     let Some(prefix) = &args.prefix else {
         return Err("--prefix is needed".into());
@@ -263,51 +298,119 @@ fn run(args: &Args, setup: &RobotSetup) -> Result<Exit, String> {
             let config = ipc::config(prefix)?;
             let node = ipc::create_node(&config, &names::robot_node(robot))?;
             let ports = Ports::open(&node, robot)?;
-            serve(args, setup, &Iceoryx2 { ports, world_pid })
+            serve(args, setup, agreement, &Iceoryx2 { ports, world_pid })
         }
         Transport::Zenoh => {
             let mut net = NetConfig::new(prefix);
             net.connect.clone_from(&args.connect);
             net.lease_ms = args.lease_ms;
             net.connect_timeout = Duration::from_millis(args.connect_timeout_ms);
-            serve(args, setup, &ZenohAgent::open(&net, robot)?)
+            serve(args, setup, agreement, &ZenohAgent::open(&net, robot)?)
         }
     }
 }
 
-/// The robot's life once it reaches the world: hello, then one answer per
-/// message until `End` or the world is gone.
-fn serve(args: &Args, setup: &RobotSetup, link: &dyn AgentTransport) -> Result<Exit, String> {
+/// The robot's life once it reaches the world: hello, the world's
+/// verdict, then one answer per message until `End` or the world is gone.
+fn serve(args: &Args, setup: &RobotSetup, agreement: &Agreement, link: &dyn AgentTransport) -> Result<Exit, String> {
     let grid: Grid = setup.grid();
     // This robot's maps and the maps it decodes read one table of edge masks.
     let _masks = gridswarm::map::tiles::SharedMasks::new(grid.len());
     let robot = setup.id as usize;
     let mut agent = Agent {
         peer: Peer::new(&grid, setup.peer_config()),
+        nonce: nonce(),
         hang_at: hang_at(robot),
         limits: WireLimits::for_robot(grid.len(), setup.targets_total),
         frame_limits: Limits::for_robot(grid.len(), setup.targets_total),
         out: Output::default(),
     };
-    link.send(0, &wire::encode_to_world(&ToWorld::Hello { robot: setup.id as u32, pid: std::process::id() }))?;
+    let hello = Hello {
+        agreement: agreement.clone(),
+        robot: setup.id as u32,
+        pid: std::process::id(),
+        host: host_name(),
+        nonce: agent.nonce,
+    };
+    let hello = wire::encode_to_world(&ToWorld::Hello(Box::new(hello)));
     let mut asm = Assembler::new(ipc::INBOX_CHUNKS * ipc::CHUNK_BYTES);
     let mut buf = Vec::with_capacity(ipc::CHUNK_BYTES);
     let timeout = Duration::from_millis(args.world_timeout_ms.max(1));
+    if let Some(exit) = handshake(&agent, link, &hello, (&mut asm, &mut buf), timeout)? {
+        return Ok(exit);
+    }
+    // The first wake-up may have come with the verdict: read before waiting.
+    let mut first = true;
     loop {
-        link.wait(timeout);
+        if !first {
+            link.wait(timeout);
+        }
         let mut got = false;
         while link.recv(&mut buf)? {
             got = true;
             let Ok(Some((seq, bytes))) = asm.push(&buf) else { continue };
             match agent.answer(seq, bytes) {
-                Some(o) => link.send(seq, &wire::encode_to_world(&ToWorld::Output(o)))?,
-                None => return Ok(Exit::Done),
+                Step::Answer(o) => link.send(seq, &wire::encode_to_world(&ToWorld::Output(o)))?,
+                Step::Exit(exit) => return Ok(exit),
+                Step::Nothing => {}
+            }
+        }
+        // Quiet after a wait: is the world still there?
+        if !got && !first && !link.world_alive() {
+            return Ok(Exit::WorldGone);
+        }
+        first = false;
+    }
+}
+
+/// Says hello until the world's verdict on it comes: `None` accepted,
+/// otherwise how the agent ends. Everything else the world says meanwhile
+/// (wake-ups of another claimant of this robot number) is not its own;
+/// what comes after its verdict is left for the loop. The world does not
+/// wake it for its verdict: it looks every `timeout` (`--world-timeout-ms`).
+fn handshake(
+    agent: &Agent,
+    link: &dyn AgentTransport,
+    hello: &[u8],
+    (asm, buf): (&mut Assembler, &mut Vec<u8>),
+    timeout: Duration,
+) -> Result<Option<Exit>, String> {
+    let mut said: Option<std::time::Instant> = None;
+    loop {
+        if said.is_none_or(|t| t.elapsed() >= HELLO_AGAIN) {
+            link.send(HANDSHAKE, hello)?;
+            said = Some(std::time::Instant::now());
+        }
+        link.wait(timeout.min(HELLO_AGAIN));
+        let mut got = false;
+        while link.recv(buf)? {
+            got = true;
+            let Ok(Some((_, bytes))) = asm.push(buf) else { continue };
+            match wire::decode_to_agent(bytes, &agent.limits) {
+                Ok(ToAgent::Verdict(v)) if v.nonce == agent.nonce => return Ok(v.refusal.map(Exit::Refused)),
+                Ok(ToAgent::End) => return Ok(Some(Exit::Done)),
+                _ => {}
             }
         }
         if !got && !link.world_alive() {
-            return Ok(Exit::WorldGone);
+            return Ok(Some(Exit::WorldGone));
         }
     }
+}
+
+/// A number drawn once per process (std's per-process random hash keys,
+/// with the process id and the time): tells its claims from another's.
+fn nonce() -> u64 {
+    use std::hash::{BuildHasher, Hasher};
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u32(std::process::id());
+    h.write_u128(std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos()));
+    h.finish()
+}
+
+/// This host's name (its UTS namespace's), for the world's messages.
+fn host_name() -> String {
+    std::fs::read_to_string("/proc/sys/kernel/hostname").map_or_else(|_| "?".into(), |s| s.trim().to_string())
 }
 
 /// The iceoryx2 ports behind [`AgentTransport`]; the world's liveness is
@@ -346,12 +449,26 @@ pub fn derived_setup(
     situation: Option<u8>,
     retries: Option<u32>,
 ) -> Result<RobotSetup, String> {
+    derived("", scenario, robot, seed, algorithm, situation, retries).map(|(setup, _)| setup)
+}
+
+/// [`derived_setup`], and the agreement of run `key` it presents.
+pub fn derived(
+    key: &str,
+    scenario: &str,
+    robot: usize,
+    seed: u64,
+    algorithm: &str,
+    situation: Option<u8>,
+    retries: Option<u32>,
+) -> Result<(RobotSetup, Agreement), String> {
     let policy: Policy = algorithm.parse()?;
     registry::runnable(policy)?;
     if robot >= ipc::MAX_ROBOTS {
         return Err(format!("--robot {robot}: robots are numbered below {}", ipc::MAX_ROBOTS));
     }
     let mut sc = Scenario::load(scenario).map_err(|e| e.to_string())?;
+    let id = ScenarioId::of(&sc);
     match situation {
         Some(1) => sc.situation = Situation::One,
         Some(2) => sc.situation = Situation::Two,
@@ -362,15 +479,17 @@ pub fn derived_setup(
         sc.params.retries = r;
     }
     let world = sc.world();
-    Ok(RobotSetup::new(&world, &RunConfig::new(policy, seed, sc.situation), robot))
+    let agreement = Agreement::new(key, id, seed, policy, sc.situation, world.params);
+    Ok((RobotSetup::new(&world, &RunConfig::new(policy, seed, sc.situation), robot), agreement))
 }
 
-/// The setup from `--setup`, or derived from the scenario.
-fn setup_of(args: &Args) -> Result<RobotSetup, String> {
+/// The setup and agreement from `--setup`, or derived from the scenario.
+fn setup_of(args: &Args) -> Result<(RobotSetup, Agreement), String> {
     match (&args.setup, &args.scenario, args.robot, args.seed) {
         (Some(path), _, _, _) => read_setup(path),
         (None, Some(sc), Some(robot), Some(seed)) => {
-            derived_setup(sc, robot, seed, &args.algorithm, args.situation, args.retries)
+            let key = args.prefix.as_deref().unwrap_or_default();
+            derived(key, sc, robot, seed, &args.algorithm, args.situation, args.retries)
         }
         _ => Err("--setup, or --scenario with --robot and --seed, is needed".into()),
     }
@@ -402,7 +521,7 @@ pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
         }
         return ExitCode::SUCCESS;
     }
-    let setup = match setup_of(&args) {
+    let (setup, agreement) = match setup_of(&args) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("robot-agent: error: {e}");
@@ -411,7 +530,7 @@ pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
     };
     let world_pid = args.world_pid.unwrap_or(0);
     // Unreachable because the world died: that is not this robot's error.
-    let result = match run(&args, &setup) {
+    let result = match run(&args, &setup, &agreement) {
         Err(e) if e == UNREACHABLE && !ipc::pid_alive(world_pid) => Ok(Exit::WorldGone),
         r => r,
     };
@@ -420,6 +539,10 @@ pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
         Ok(Exit::WorldGone) => {
             eprintln!("robot-agent {}: the world-server is gone", setup.id);
             ExitCode::from(ipc::EXIT_WORLD_GONE as u8)
+        }
+        Ok(Exit::Refused(why)) => {
+            eprintln!("robot-agent {}: error: refused by the world: {}", setup.id, why.replace('\n', "; "));
+            ExitCode::from(2)
         }
         Err(e) => {
             eprintln!("robot-agent {}: error: {}", setup.id, e.replace('\n', "; "));

@@ -4,11 +4,12 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+use gridswarm::agreement::{Agreement, ScenarioId};
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
 use gridswarm::scenario::Scenario;
-use gridswarm::setup::RobotSetup;
+use gridswarm::setup::{self, RobotSetup};
 
 fn agent() -> Command {
     Command::new(env!("CARGO_BIN_EXE_robot-agent"))
@@ -28,9 +29,11 @@ fn setup_file(name: &str, text: Option<&str>) -> SetupFile {
     let body = match text {
         Some(t) => t.to_string(),
         None => {
-            let world = Scenario::builtin("paper").unwrap().world();
+            let sc = Scenario::builtin("paper").unwrap();
+            let world = sc.world();
             let cfg = RunConfig::new(Policy::Repulsive, 1, Situation::Two);
-            serde_json::to_string(&RobotSetup::new(&world, &cfg, 0)).unwrap()
+            let agreement = Agreement::new("k", ScenarioId::of(&sc), 1, cfg.policy, cfg.situation, world.params);
+            serde_json::to_string(&setup::SetupFile { setup: RobotSetup::new(&world, &cfg, 0), agreement }).unwrap()
         }
     };
     std::fs::write(&path, body).unwrap();

@@ -1,6 +1,7 @@
 //! An agent started by hand (zenoh, another host) has no setup file: it
 //! derives its setup from the scenario, seed and robot number, and that
-//! must be exactly the setup the orchestrator writes for the same run.
+//! must be exactly the setup the orchestrator writes for the same run, and
+//! present the agreement the orchestrator's world holds.
 
 use std::process::Command;
 
@@ -28,6 +29,10 @@ fn a_derived_setup_is_the_one_the_orchestrator_writes() {
         let sit = if situation == Situation::One { 1 } else { 2 };
         let derived = robot_agent::derived_setup(scenario, robot, 41, policy.name(), Some(sit), retries).unwrap();
         assert_eq!(derived, written, "{scenario} {policy} robot {robot}");
+        // And the agreement it presents is the one the world holds.
+        let (_, agreement) =
+            robot_agent::derived("key", scenario, robot, 41, policy.name(), Some(sit), retries).unwrap();
+        assert_eq!(agreement, plan.agreement("key"), "{scenario} {policy} robot {robot}");
     }
     let err = robot_agent::derived_setup("paper", 0, 1, "lfp", None, None).unwrap_err();
     assert!(err.contains("lfp"), "{err}");

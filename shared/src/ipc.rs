@@ -444,6 +444,8 @@ pub struct RunReport {
     /// Bytes of the largest wake-up (more than [`CHUNK_BYTES`]: it went in chunks).
     #[serde(default)]
     pub largest_wake_bytes: usize,
+    /// What every robot-agent of the run agreed on (the world's own).
+    pub agreement: crate::agreement::Agreement,
 }
 
 #[cfg(test)]

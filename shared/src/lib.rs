@@ -7,6 +7,7 @@
 //! the world (clock, radio medium, bodies, faults); [`engine`] runs robots
 //! in-process. See ARCHITECTURE.md.
 
+pub mod agreement;
 pub mod assumptions;
 pub mod bitset;
 pub mod choice;

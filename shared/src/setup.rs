@@ -7,6 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::agreement::Agreement;
 use crate::geometry::Point;
 use crate::grid::Grid;
 use crate::lattice::{Lattice, LatticeKind};
@@ -32,6 +33,15 @@ pub struct RobotSetup {
     /// `|T|` in situation 1; 0 in situation 2, where no robot knows it.
     pub targets_total: usize,
     pub seed: u64,
+}
+
+/// What the orchestrator hands a robot-agent it starts (`--setup`): the
+/// robot's setup, and the run's agreement the agent presents in its hello.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SetupFile {
+    pub setup: RobotSetup,
+    pub agreement: Agreement,
 }
 
 impl RobotSetup {

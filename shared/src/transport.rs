@@ -109,6 +109,18 @@ pub trait WorldTransport {
     fn mistagged(&self) -> u64 {
         0
     }
+    /// Takes into `buf` the next chunk sent under a robot number outside
+    /// the team, if one came, and returns that number: an agent started
+    /// with a wrong `--robot`, whom the world refuses. iceoryx2 has no
+    /// services for such a robot, so nothing ever comes there.
+    fn stranger(&self, _buf: &mut Vec<u8>) -> Option<usize> {
+        None
+    }
+    /// Puts one message (a refusal) into the inbox of robot `r` outside
+    /// the team, once.
+    fn post_stranger(&self, r: usize, _bytes: &[u8]) -> Result<(), String> {
+        Err(format!("robot {r} has no inbox"))
+    }
 }
 
 /// A robot's side: its inbox, its answers, and whether the world is there.

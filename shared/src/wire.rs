@@ -9,10 +9,16 @@
 //! small header (sequence number, part, parts), put back together by an
 //! [`Assembler`]. Decoding checks every size and id against [`WireLimits`]
 //! and returns a [`WireError`]; it never panics on any input.
+//!
+//! A robot's first message is its [`Hello`]: its number, its process and
+//! the run's [`Agreement`] as it holds it. The world answers it with a
+//! [`Verdict`], its acceptance or its refusal naming what differs. Hello
+//! and verdict are message number 0 (the handshake); wake-ups count from 1.
 
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 
+use crate::agreement::Agreement;
 use crate::map::RobotId;
 use crate::sim::{Listen, Motor, Note, Tick, Time};
 
@@ -77,7 +83,23 @@ pub enum ToAgent {
     Wake(Wake),
     /// The run is over: exit.
     End,
+    /// The world's answer to a hello.
+    Verdict(Verdict),
 }
+
+/// The world's answer to the hello of the agent whose nonce it names:
+/// over zenoh every agent claiming a robot number reads that number's
+/// inbox, so an agent acts only on its own.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Verdict {
+    pub nonce: u64,
+    /// `None`: accepted. Otherwise why not, in the world's words.
+    pub refusal: Option<String>,
+}
+
+/// Message number of the handshake (a hello and its verdict): never put
+/// again by the world, never taken for an answer to a wake-up.
+pub const HANDSHAKE: u64 = 0;
 
 /// A frame to broadcast ([`crate::sim::Transmit`] with bytes).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -137,19 +159,31 @@ pub fn encode_wake_into(w: &WakeRef, out: &mut Vec<u8>) {
     *out = postcard::to_extend(&ToAgentRef::Wake(w), buf).expect("a message always serializes");
 }
 
+/// A robot-agent's first message.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Hello {
+    /// First: its protocol version leads the message.
+    pub agreement: Agreement,
+    pub robot: u32,
+    /// Its process id (on its own host).
+    pub pid: u32,
+    /// Its host's name, for messages.
+    pub host: String,
+    /// Drawn once per process: tells two claims to one robot number apart.
+    pub nonce: u64,
+}
+
 /// Agent to world.
-// Outputs are nearly every message (a hello is one an agent): boxing them
-// would cost an allocation each to save memory on the rare hello.
-#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ToWorld {
-    /// The agent is up: its robot number and process id.
-    Hello {
-        robot: u32,
-        pid: u32,
-    },
+    /// The agent is up (boxed: the rare message is the big one).
+    Hello(Box<Hello>),
     Output(AgentOutput),
 }
+
+/// Bytes of a text field of a hello or a verdict (names, keys, hosts,
+/// a refusal), at most.
+pub const MAX_TEXT: usize = 4096;
 
 /// What a message must fit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -230,8 +264,10 @@ pub fn encode_to_world(m: &ToWorld) -> Vec<u8> {
 /// Decodes and checks a message of the world.
 pub fn decode_to_agent(bytes: &[u8], l: &WireLimits) -> Result<ToAgent, WireError> {
     let m: ToAgent = decode_exact(bytes)?;
-    if let ToAgent::Wake(w) = &m {
-        check_wake(w, l)?;
+    match &m {
+        ToAgent::Wake(w) => check_wake(w, l)?,
+        ToAgent::Verdict(v) => at_most("refusal bytes", v.refusal.as_ref().map_or(0, String::len), MAX_TEXT)?,
+        ToAgent::End => {}
     }
     Ok(m)
 }
@@ -256,10 +292,41 @@ fn check_wake(w: &Wake, l: &WireLimits) -> Result<(), WireError> {
 pub fn decode_to_world(bytes: &[u8], l: &WireLimits) -> Result<ToWorld, WireError> {
     let m: ToWorld = decode_exact(bytes)?;
     match &m {
-        ToWorld::Hello { robot, .. } => range("robot", *robot as usize, l.robots)?,
+        // A robot number outside the team is the world's to refuse, in words.
+        ToWorld::Hello(h) => check_hello(h)?,
         ToWorld::Output(o) => check_output(o, l)?,
     }
     Ok(m)
+}
+
+fn check_hello(h: &Hello) -> Result<(), WireError> {
+    let a = &h.agreement;
+    for (what, text) in [("key", &a.key), ("scenario name", &a.scenario.name), ("scenario hash", &a.scenario.sha3_256)]
+    {
+        at_most(what, text.len(), MAX_TEXT)?;
+    }
+    at_most("algorithm", a.algorithm.len(), MAX_TEXT)?;
+    at_most("host", h.host.len(), MAX_TEXT)?;
+    let p = &a.params;
+    let reals = [
+        p.a,
+        p.r_rob,
+        p.r_safe,
+        p.r_so,
+        p.r_st,
+        p.r_c,
+        p.t_rot,
+        p.t_trans,
+        p.t_choice,
+        p.t_exchange,
+        p.t_hop,
+        p.t_wait,
+    ];
+    if reals.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(WireError::Range("a parameter that is not a finite number".into()))
+    }
 }
 
 fn check_output(o: &AgentOutput, l: &WireLimits) -> Result<(), WireError> {
@@ -386,13 +453,34 @@ mod tests {
         })
     }
 
+    fn hello(robot: u32) -> ToWorld {
+        let sc = crate::scenario::Scenario::builtin("small").unwrap();
+        let id = crate::agreement::ScenarioId::of(&sc);
+        let policy = crate::policy::Policy::Repulsive;
+        let agreement = Agreement::new("k", id, 7, policy, crate::params::Situation::Two, sc.params);
+        ToWorld::Hello(Box::new(Hello { agreement, robot, pid: 77, host: "h".into(), nonce: 5 }))
+    }
+
+    #[test]
+    fn a_hello_starts_with_its_protocol_version() {
+        // Its variant, then its agreement's first field: a later world
+        // can read the version whatever follows it.
+        let bytes = encode_to_world(&hello(3));
+        let ((variant, version), _) = postcard::take_from_bytes::<(u32, u32)>(&bytes).unwrap();
+        assert_eq!((variant, version), (0, crate::agreement::PROTOCOL_VERSION));
+    }
+
     #[test]
     fn round_trip() {
         let w = wake();
         assert_eq!(decode_to_agent(&encode_to_agent(&w), &L), Ok(w));
         assert_eq!(decode_to_agent(&encode_to_agent(&ToAgent::End), &L), Ok(ToAgent::End));
-        for m in [output(), ToWorld::Hello { robot: 12, pid: 77 }] {
+        for m in [output(), hello(12)] {
             assert_eq!(decode_to_world(&encode_to_world(&m), &L), Ok(m));
+        }
+        for v in [Verdict { nonce: 9, refusal: None }, Verdict { nonce: 1, refusal: Some("seed".into()) }] {
+            let m = ToAgent::Verdict(v);
+            assert_eq!(decode_to_agent(&encode_to_agent(&m), &L), Ok(m));
         }
     }
 
@@ -435,8 +523,12 @@ mod tests {
         o.motor = None;
         o.send[0].bytes = Bytes(vec![0; 1001]);
         assert!(matches!(decode_to_world(&encode_to_world(&ToWorld::Output(o)), &L), Err(WireError::Range(_))));
-        let hello = encode_to_world(&ToWorld::Hello { robot: 13, pid: 1 });
-        assert!(decode_to_world(&hello, &L).is_err());
+        let ToWorld::Hello(mut h) = hello(13) else { unreachable!() };
+        assert!(decode_to_world(&encode_to_world(&ToWorld::Hello(h.clone())), &L).is_ok(), "the world's to refuse");
+        h.host = "h".repeat(MAX_TEXT + 1);
+        assert!(matches!(decode_to_world(&encode_to_world(&ToWorld::Hello(h)), &L), Err(WireError::Range(_))));
+        let long = ToAgent::Verdict(Verdict { nonce: 1, refusal: Some("x".repeat(MAX_TEXT + 1)) });
+        assert!(decode_to_agent(&encode_to_agent(&long), &L).is_err());
         let mut long = encode_to_agent(&ToAgent::End);
         long.push(0);
         assert!(matches!(decode_to_agent(&long, &L), Err(WireError::Format(_))));

@@ -13,11 +13,16 @@ mod cpu;
 
 use std::time::Duration;
 
+use gridswarm::agreement::{Agreement, ScenarioId};
 use gridswarm::map::Map;
+use gridswarm::params::Situation;
+use gridswarm::policy::Policy;
 use gridswarm::protocol::{self, Frame, Limits};
 use gridswarm::scenario::{limits, Scenario};
 use gridswarm::sim::{Listen, Motor, Note, Tick};
-use gridswarm::wire::{self, AgentOutput, Assembler, Bytes, ToAgent, ToWorld, Wake, WireFrame, WireLimits, WireSend};
+use gridswarm::wire::{
+    self, AgentOutput, Assembler, Bytes, Hello, ToAgent, ToWorld, Verdict, Wake, WireFrame, WireLimits, WireSend,
+};
 use proptest::prelude::*;
 use toml::Value;
 
@@ -348,6 +353,8 @@ fn to_agent() -> impl Strategy<Value = ToAgent> {
         (any::<u64>(), any::<u64>(), prop::option::of(tick), frames)
             .prop_map(|(seq, now, tick, frames)| ToAgent::Wake(Wake { seq, now, tick, frames })),
         Just(ToAgent::End),
+        (any::<u64>(), prop::option::of("[ -~\\n]{0,40}"))
+            .prop_map(|(nonce, refusal)| ToAgent::Verdict(Verdict { nonce, refusal })),
     ]
 }
 
@@ -367,13 +374,24 @@ fn note() -> impl Strategy<Value = Note> {
     ]
 }
 
+/// A hello, its texts and one parameter as given.
+fn hello(robot: u32, pid: u32, nonce: u64, seed: u64, text: &str, r_c: f64) -> ToWorld {
+    let sc = Scenario::builtin("small").unwrap();
+    let mut params = sc.params;
+    params.r_c = r_c;
+    let id = ScenarioId { name: text.into(), sha3_256: ScenarioId::of(&sc).sha3_256 };
+    let agreement = Agreement::new(text, id, seed, Policy::Repulsive, Situation::One, params);
+    ToWorld::Hello(Box::new(Hello { agreement, robot, pid, host: text.into(), nonce }))
+}
+
 /// Any agent-to-world message inside [`WIRE_LIMITS`].
 fn to_world() -> impl Strategy<Value = ToWorld> {
     let send =
         (bytes(300), any::<u64>(), any::<u8>()).prop_map(|(bytes, ready, copies)| WireSend { bytes, ready, copies });
     let motor = prop_oneof![(0u32..100).prop_map(Motor::Go), Just(Motor::Halt), Just(Motor::Resume)];
     prop_oneof![
-        (0u32..13, any::<u32>()).prop_map(|(robot, pid)| ToWorld::Hello { robot, pid }),
+        (any::<u32>(), any::<u32>(), any::<u64>(), any::<u64>(), "[a-z\\x00-\\x1f]{0,12}", 0.1f64..10.0)
+            .prop_map(|(robot, pid, nonce, seed, text, r_c)| hello(robot, pid, nonce, seed, &text, r_c)),
         (
             any::<u64>(),
             prop::collection::vec(send, 0..4),

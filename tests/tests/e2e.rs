@@ -31,6 +31,19 @@ fn thirteen_robots_complete_a_search() {
     let _s = serial();
     let v = run_json(&["--robots", "13", "--seed", "7"]);
     assert_eq!(v["engine"], "distributed");
+    assert_eq!(v["transport"], serde_json::json!({"name": "iceoryx2", "endpoints": [], "remote_agents": false}));
+    // `paper` is searched in situation 1.
+    let a = &v["agreement"];
+    assert_eq!(
+        (&a["key"], &a["seed"], &a["scenario"]["name"]),
+        (&v["ipc_prefix"], &serde_json::json!(7), &v["scenario"])
+    );
+    assert_eq!(
+        (&a["protocol"], &a["algorithm"], &a["situation"]),
+        (&serde_json::json!(2), &v["algorithm"], &serde_json::json!(1))
+    );
+    assert_eq!(a["scenario"]["sha3_256"].as_str().map(str::len), Some(64), "{a}");
+    assert_eq!(a["params"]["retries"], v["retries"]);
     assert_eq!(v["robots"], 13);
     assert_eq!(v["complete"], true);
     assert_eq!(v["targets_found"], v["targets_total"]);
@@ -54,6 +67,19 @@ fn run_into(dir: &Path, args: &[&str]) -> Value {
     let v = finished(&gridswarm().args(&all).output().unwrap(), &all);
     assert_no_leftovers(v["ipc_prefix"].as_str().unwrap());
     v
+}
+
+/// `simulate`'s summary and `run`'s say what was run, alike but for the
+/// key only a distributed run has, and how: their transports tell them apart.
+fn assert_same_agreement(tag: &str, run_summary: &Value, sim: &Path) {
+    let sim: Value = serde_json::from_slice(&fs::read(sim.join("summary.json")).unwrap()).unwrap();
+    let (mut agreed, simulated) = (run_summary["agreement"].clone(), &sim["agreement"]);
+    assert_eq!(agreed["key"], run_summary["ipc_prefix"], "{tag}");
+    assert!(simulated["key"].is_null(), "{tag}: {simulated}");
+    agreed["key"] = Value::Null;
+    assert_eq!(&agreed, simulated, "{tag}: agreement");
+    assert_eq!(run_summary["transport"]["name"], "iceoryx2", "{tag}");
+    assert_eq!(sim["transport"]["name"], "in-process", "{tag}");
 }
 
 /// The files that must be byte-identical between the engines, and the
@@ -100,6 +126,7 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
                 let summary = run_into(&d, &args);
                 search(&[&["simulate", "--out", s.to_str().unwrap()][..], &args[..]].concat());
                 assert_same_run(&tag, &d, &s, &summary);
+                assert_same_agreement(&tag, &summary, &s);
                 compared += 1;
             }
         }

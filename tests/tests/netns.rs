@@ -211,6 +211,9 @@ fn a_run_across_namespaces_is_the_in_process_run() {
         assert_eq!(v["died"], serde_json::json!([]));
         // Agents on other hosts are not measured: unknown, not 0.
         assert!(v["agent_cpu_ms_total"].is_null(), "{v}");
+        let listen = format!("tcp/0.0.0.0:{PORT}");
+        assert_eq!(v["transport"], serde_json::json!({"name": "zenoh", "endpoints": [listen], "remote_agents": true}));
+        assert_eq!((&v["agreement"]["key"], &v["agreement"]["seed"]), (&serde_json::json!(key), &serde_json::json!(7)));
     }
     assert!(own_namespaces().iter().all(|n| !n.contains("c1")), "namespaces left: {:?}", own_namespaces());
     search(&[&["simulate", "--robots", "13", "--out", sim.to_str().unwrap()][..], &run[..]].concat());

@@ -38,6 +38,11 @@ fn a_zenoh_run_on_paper_is_the_in_process_run() {
     let v = zenoh_run(&run, &args);
     search(&[&["simulate", "--out", sim.to_str().unwrap()][..], &args[..]].concat());
     same_files("paper-13-7", &run, &sim);
+    let endpoints = v["transport"]["endpoints"].as_array().unwrap();
+    assert_eq!((&v["transport"]["name"], endpoints.len()), (&serde_json::json!("zenoh"), 1), "{v}");
+    assert!(endpoints[0].as_str().unwrap().starts_with("tcp/127.0.0.1:"), "{v}");
+    assert_eq!(v["agreement"]["key"], v["ipc_prefix"], "the run key of a run on one machine is its prefix");
+    assert_eq!(v["agreement"]["seed"], 7);
     assert_eq!(v["complete"], true);
     assert_eq!(v["collisions"], 0);
     assert_eq!(v["dropped_messages"]["total"], 0);

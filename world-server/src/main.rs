@@ -15,7 +15,9 @@
 //! every slot and `alive` every second while it waits for robots; `done`
 //! after the report is written. Errors are one
 //! `error: ...` line on stderr and exit status 1; usage errors clap's
-//! message and exit status 2. A run whose descriptors the open-file limit
+//! message and exit status 2, and so is a robot-agent refused because it
+//! does not agree with the world's run (its `error:` line names what
+//! differs on both sides: [`remote`]). A run whose descriptors the open-file limit
 //! cannot hold is refused before any service exists; a signal ends the
 //! world after removing the run's files ([`signals`]).
 
@@ -29,6 +31,7 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
+use gridswarm::agreement::{Agreement, ScenarioId};
 use gridswarm::ipc::{self, RunFile, RunReport};
 use gridswarm::net::{NetConfig, ZenohWorld};
 use gridswarm::outcome::RunResult;
@@ -38,7 +41,7 @@ use gridswarm::transport::{Transport, WorldTransport};
 use gridswarm::wire::WireLimits;
 use gridswarm::world::World;
 
-use crate::remote::{say, Patience, Remote};
+use crate::remote::{say, Failure, Patience, Remote};
 
 #[derive(Parser, Debug)]
 #[command(name = "world-server", about = "gridswarm's physical world for a run of one process per robot")]
@@ -86,11 +89,16 @@ struct Args {
     remote_agents: bool,
 }
 
+/// What the world serves: the run file, its world, start vertices and
+/// the scenario's id (taken before the run's overrides).
+type Loaded = (RunFile, World, Vec<u32>, ScenarioId);
+
 /// The run file, its world and start vertices.
-fn load(path: &PathBuf) -> Result<(RunFile, World, Vec<u32>), String> {
+fn load(path: &PathBuf) -> Result<Loaded, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
     let run: RunFile = serde_json::from_str(&text).map_err(|e| format!("`{}`: {e}", path.display()))?;
     let mut scenario = Scenario::load(&run.scenario).map_err(|e| e.to_string())?;
+    let id = ScenarioId::of(&scenario);
     if let Some(r) = run.retries {
         scenario.params.retries = r;
     }
@@ -107,10 +115,10 @@ fn load(path: &PathBuf) -> Result<(RunFile, World, Vec<u32>), String> {
     gridswarm::sim::schedule::check(&run.config.faults, run.robots)?;
     let world = scenario.world();
     let starts = scenario.start_vertices(&world, run.robots).map_err(|e| e.to_string())?;
-    Ok((run, world, starts))
+    Ok((run, world, starts, id))
 }
 
-fn run(args: Args) -> Result<(), String> {
+fn run(args: Args) -> Result<(), Failure> {
     let t0 = Instant::now();
     ipc::quiet_logs();
     let config = ipc::config(&args.prefix)?;
@@ -122,7 +130,7 @@ fn run(args: Args) -> Result<(), String> {
     let loaded = load(&args.run)?;
     let robots = loaded.0.robots;
     if args.transport == Transport::Zenoh {
-        let mut net = NetConfig::new(args.key.as_deref().unwrap_or(&args.prefix));
+        let mut net = NetConfig::new(key(&args));
         net.listen.clone_from(&args.listen);
         net.connect.clone_from(&args.connect);
         net.lease_ms = args.lease_ms;
@@ -142,13 +150,13 @@ fn run(args: Args) -> Result<(), String> {
     serve(&args, &transport::Iceoryx2 { ports: &ports, config: &config }, loaded, t0)
 }
 
+/// The run key agents present: zenoh's `--key`, or the prefix.
+fn key(args: &Args) -> &str {
+    args.key.as_deref().unwrap_or(&args.prefix)
+}
+
 /// Runs the world over `link` once it is up, and writes the report.
-fn serve(
-    args: &Args,
-    link: &dyn WorldTransport,
-    (run, world, starts): (RunFile, World, Vec<u32>),
-    t0: Instant,
-) -> Result<(), String> {
+fn serve(args: &Args, link: &dyn WorldTransport, (run, world, starts, id): Loaded, t0: Instant) -> Result<(), Failure> {
     let robots = run.robots;
     say("ready")?;
     let limits = WireLimits::for_world(robots, world.grid.len(), world.targets.len());
@@ -157,7 +165,9 @@ fn serve(
         limit: Duration::from_secs(args.silence_s),
         progress: args.progress,
     };
-    let mut remote = Remote::new(link, limits, patience, run.config.faults.clone());
+    let c = &run.config;
+    let agreement = Agreement::new(key(args), id, c.seed, c.policy, c.situation, world.params);
+    let mut remote = Remote::new(link, agreement.clone(), limits, patience, c.faults.clone());
     remote.hello(Duration::from_millis(args.hello_timeout_ms.unwrap_or(30_000 + 100 * robots as u64)))?;
     let startup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let cpu0 = ipc::cpu_ms_of(std::process::id());
@@ -167,7 +177,7 @@ fn serve(
     remote.finish_rounds();
     if let Some(e) = remote.failed.take() {
         remote.end();
-        return Err(e);
+        return Err(e.into());
     }
     let world_cpu_ms = ipc::cpu_ms_of(std::process::id()) - cpu0;
     // Measured before `End`, while every agent still runs.
@@ -193,10 +203,11 @@ fn serve(
         liveness_checks: remote.liveness_checks,
         wake_batches: remote.batches,
         largest_wake_bytes: remote.largest_wake,
+        agreement,
     };
     let text = serde_json::to_string(&report).map_err(|e| format!("cannot encode the report: {e}"))?;
     std::fs::write(&args.report, text).map_err(|e| format!("cannot write `{}`: {e}", args.report.display()))?;
-    say("done")
+    Ok(say("done")?)
 }
 
 /// `vertices[r][k]`: robot `r`'s vertex at the start of round `k`.
@@ -219,7 +230,11 @@ fn main() -> ExitCode {
     };
     match run(args) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+        Err(Failure::Refused(e)) => {
+            eprintln!("error: {}", e.replace('\n', "; "));
+            ExitCode::from(2)
+        }
+        Err(Failure::Other(e)) => {
             eprintln!("error: {}", e.replace('\n', "; "));
             ExitCode::FAILURE
         }

@@ -15,15 +15,23 @@
 //!
 //! At a fault the world pauses: it prints `fault K` and waits for `go` on
 //! stdin while the orchestrator signals the robot's process.
+//!
+//! Before the first slot every robot says hello and is answered ([`hello`]).
 
 use std::io::{BufRead, Write};
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
+use gridswarm::agreement::Agreement;
 use gridswarm::ipc;
 use gridswarm::sim::{Delivery, Fault, Output, Robots, Time, Transmit, WakeCall};
 use gridswarm::transport::WorldTransport;
 use gridswarm::wire::{self, AgentOutput, Assembler, ByteSlice, ToAgent, ToWorld, WakeRef, WireFrameRef, WireLimits};
+
+use hello::Claim;
+pub use hello::Failure;
+
+mod hello;
 
 /// A robot's answer to a wake-up, once collected: `Some(None)` when it
 /// turned out dead.
@@ -48,6 +56,9 @@ pub struct Patience {
 /// The robots of a run, each in its own process.
 pub struct Remote<'a> {
     ports: &'a dyn WorldTransport,
+    /// The world's: every hello must present the same.
+    agreement: Agreement,
+    claims: Vec<Option<Claim>>,
     limits: WireLimits,
     patience: Patience,
     faults: Vec<Fault>,
@@ -80,10 +91,18 @@ pub struct Remote<'a> {
 }
 
 impl<'a> Remote<'a> {
-    pub fn new(ports: &'a dyn WorldTransport, limits: WireLimits, patience: Patience, faults: Vec<Fault>) -> Self {
+    pub fn new(
+        ports: &'a dyn WorldTransport,
+        agreement: Agreement,
+        limits: WireLimits,
+        patience: Patience,
+        faults: Vec<Fault>,
+    ) -> Self {
         let n = limits.robots;
         Remote {
             ports,
+            agreement,
+            claims: (0..n).map(|_| None).collect(),
             limits,
             patience,
             faults,
@@ -124,36 +143,6 @@ impl<'a> Remote<'a> {
     /// Robots whose process vanished while the world waited on them.
     pub fn died(&self) -> Vec<usize> {
         (0..self.gone.len()).filter(|&r| self.gone[r]).collect()
-    }
-
-    /// Waits until every robot has said hello (within `timeout`).
-    pub fn hello(&mut self, timeout: Duration) -> Result<(), String> {
-        let start = Instant::now();
-        let mut missing = self.pids.len();
-        while missing > 0 {
-            if start.elapsed() > timeout {
-                let who: Vec<usize> = (0..self.pids.len()).filter(|&r| self.pids[r] == 0).take(10).collect();
-                let why = self.recv_error.take().map(|(r, e)| format!("; robot {r}'s outbox: {e}")).unwrap_or_default();
-                return Err(format!("{missing} robot(s) did not say hello within {timeout:?}, e.g. {who:?}{why}"));
-            }
-            self.woke.clear();
-            let mut woke = std::mem::take(&mut self.woke);
-            self.ports.wait(Duration::from_millis(50), &mut woke);
-            self.heartbeat()?;
-            let n = self.pids.len();
-            for &r in woke.iter().filter(|&&r| r < n) {
-                while let Some(m) = self.take(r) {
-                    if let ToWorld::Hello { robot, pid } = m {
-                        if robot as usize == r && self.pids[r] == 0 && pid != 0 {
-                            self.pids[r] = pid;
-                            missing -= 1;
-                        }
-                    }
-                }
-            }
-            self.woke = woke;
-        }
-        Ok(())
     }
 
     /// The next complete, valid message in robot `r`'s outbox (a failure
@@ -258,11 +247,13 @@ impl<'a> Remote<'a> {
                             heard = Instant::now();
                             last_check = None;
                         }
+                        ToWorld::Hello(h) => self.late_hello(r, &h),
                         _ => self.dropped += 1,
                     }
                 }
             }
             self.woke = woke;
+            self.refuse_strangers();
             // An outbox the world cannot read would look like silence.
             if let Some((r, e)) = self.recv_error.take() {
                 if self.ports.liveness(r, self.pids[r]) != Some(false) {

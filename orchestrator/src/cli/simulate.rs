@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 
+use gridswarm::agreement::{Agreement, ScenarioId};
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
@@ -41,6 +42,7 @@ pub struct SimulateOptions {
 /// and whether the search completed.
 pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     let mut scenario = contract::load_scenario(&opts.scenario)?;
+    let scenario_id = ScenarioId::of(&scenario);
     if let Some(s) = opts.situation {
         scenario.situation = s;
     }
@@ -70,8 +72,13 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     cfg.record_trajectories = opts.out.is_some();
     cfg.measure_coverage = true;
     let result = Runner::new(&world, lfp).run(&starts, &cfg);
+    // What a distributed run's processes would have agreed on; no key.
+    let mut agreement = json!(Agreement::new("", scenario_id, cfg.seed, cfg.policy, cfg.situation, world.params));
+    agreement["key"] = serde_json::Value::Null;
     let extra = json!({
         "engine": "in-process",
+        "transport": { "name": "in-process", "endpoints": [], "remote_agents": false },
+        "agreement": agreement,
         "max_rounds": max_rounds,
         "radio": cfg.radio,
         "retries": world.params.retries,

@@ -16,10 +16,14 @@ use super::retry::Outstanding;
 use super::{err, one_chunk, publisher, NetConfig};
 use crate::ipc;
 use crate::transport::WorldTransport;
+use crate::wire::HANDSHAKE;
 
 /// Answers the world's subscriber holds before zenoh's receiving thread
 /// waits for the world to read them (every robot's answer to one wake-up).
 const QUEUE: usize = 8192;
+/// Chunks of robots outside the team kept for the world to refuse; more
+/// are dropped (a flood of them must not grow the world).
+const STRANGERS: usize = 64;
 
 /// What the world knows of a robot's token.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -40,10 +44,13 @@ pub struct ZenohWorld {
     presence: RefCell<Vec<Presence>>,
     /// Messages not answered yet, put again until they are.
     outstanding: RefCell<Outstanding>,
+    /// Chunks sent under robot numbers outside the team, with the number.
+    strangers: RefCell<VecDeque<(usize, Vec<u8>)>>,
+    root: String,
     out_prefix: String,
     alive_prefix: String,
     /// Dropped last (fields drop in order).
-    _session: Session,
+    session: Session,
 }
 
 impl ZenohWorld {
@@ -79,9 +86,11 @@ impl ZenohWorld {
             queues: RefCell::new(vec![VecDeque::new(); robots]),
             presence: RefCell::new(vec![Presence::Unseen; robots]),
             outstanding: RefCell::new(Outstanding::new(robots)),
+            strangers: RefCell::new(VecDeque::new()),
+            root: root.clone(),
             out_prefix: format!("{root}/out/"),
             alive_prefix: format!("{root}/alive/"),
-            _session: session,
+            session,
         })
     }
 
@@ -92,16 +101,32 @@ impl ZenohWorld {
     }
 
     /// Files an answer's chunk under its robot; returns the robot. A
-    /// repeat of an answer already heard is dropped here.
+    /// repeat of an answer already heard is dropped here; a hello (the
+    /// handshake) is never a repeat, for two agents may claim one number.
+    /// A chunk of a robot outside the team is kept for the world to refuse.
     fn file(&self, s: &Sample) -> Option<usize> {
-        let r = self.robot_of(s.key_expr().as_str(), &self.out_prefix)?;
+        let Some(r) = self.robot_of(s.key_expr().as_str(), &self.out_prefix) else {
+            self.keep_stranger(s);
+            return None;
+        };
         let chunk = s.payload().to_bytes();
         // A chunk too short for a header goes on: the assembler says why.
-        if super::retry::seq_of(&chunk).is_some_and(|seq| !self.outstanding.borrow_mut().heard(r, seq)) {
+        let seq = super::retry::seq_of(&chunk);
+        if seq.is_some_and(|seq| seq != HANDSHAKE && !self.outstanding.borrow_mut().heard(r, seq)) {
             return None;
         }
         self.queues.borrow_mut()[r].push_back(chunk.into_owned());
         Some(r)
+    }
+
+    fn keep_stranger(&self, s: &Sample) {
+        let Some(r) = s.key_expr().as_str().strip_prefix(&self.out_prefix).and_then(|n| n.parse::<usize>().ok()) else {
+            return;
+        };
+        let mut q = self.strangers.borrow_mut();
+        if q.len() < STRANGERS {
+            q.push_back((r, s.payload().to_bytes().into_owned()));
+        }
     }
 
     /// Puts again every message whose answer is overdue, to robots whose
@@ -141,7 +166,10 @@ impl ZenohWorld {
 impl WorldTransport for ZenohWorld {
     fn post(&self, r: usize, seq: u64, bytes: &[u8]) -> Result<(), String> {
         let chunk = one_chunk(seq, bytes, ipc::INBOX_CHUNKS).map_err(|e| format!("robot {r}'s inbox: {e}"))?;
-        self.outstanding.borrow_mut().posted(r, seq, &chunk, Instant::now());
+        // A verdict is put once; the agent says hello again if it is lost.
+        if seq != HANDSHAKE {
+            self.outstanding.borrow_mut().posted(r, seq, &chunk, Instant::now());
+        }
         self.inboxes[r].put(chunk).wait().map_err(err("cannot publish")).map_err(|e| format!("robot {r}'s inbox: {e}"))
     }
 
@@ -182,5 +210,20 @@ impl WorldTransport for ZenohWorld {
     fn gone(&self) -> Vec<usize> {
         self.follow_tokens();
         self.presence.borrow().iter().enumerate().filter(|(_, p)| **p == Presence::Gone).map(|(r, _)| r).collect()
+    }
+
+    fn stranger(&self, buf: &mut Vec<u8>) -> Option<usize> {
+        let (r, chunk) = self.strangers.borrow_mut().pop_front()?;
+        *buf = chunk;
+        Some(r)
+    }
+
+    fn post_stranger(&self, r: usize, bytes: &[u8]) -> Result<(), String> {
+        let chunk = one_chunk(HANDSHAKE, bytes, ipc::INBOX_CHUNKS)?;
+        self.session
+            .put(format!("{}/in/{r}", self.root), chunk)
+            .congestion_control(zenoh::qos::CongestionControl::Block)
+            .wait()
+            .map_err(err("cannot publish"))
     }
 }

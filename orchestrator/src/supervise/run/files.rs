@@ -8,9 +8,10 @@ use std::fs;
 use std::os::unix::fs::DirBuilderExt;
 use std::path::{Path, PathBuf};
 
+use gridswarm::agreement::Agreement;
 use gridswarm::ipc::{self, RunFile};
 use gridswarm::outcome::RunConfig;
-use gridswarm::setup::RobotSetup;
+use gridswarm::setup::{RobotSetup, SetupFile};
 use gridswarm::world::World;
 
 use crate::error::{Error, Result};
@@ -49,11 +50,13 @@ impl RunFiles {
         self.dir.join(format!("robot-{robot}.json"))
     }
 
-    /// Writes the world's run file and every robot's setup.
-    pub fn write(&self, run: &RunFile, world: &World, cfg: &RunConfig) -> Result<()> {
+    /// Writes the world's run file and every robot's setup, with the
+    /// agreement its agent presents.
+    pub fn write(&self, run: &RunFile, world: &World, cfg: &RunConfig, agreement: &Agreement) -> Result<()> {
         write_json(&self.run_file(), run)?;
         for k in 0..run.robots {
-            write_json(&self.setup(k), &RobotSetup::new(world, cfg, k))?;
+            let file = SetupFile { setup: RobotSetup::new(world, cfg, k), agreement: agreement.clone() };
+            write_json(&self.setup(k), &file)?;
         }
         Ok(())
     }

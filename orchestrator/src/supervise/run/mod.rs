@@ -28,6 +28,7 @@ use std::path::PathBuf;
 use std::sync::mpsc::{self, Receiver};
 use std::time::{Duration, Instant};
 
+use gridswarm::agreement::{Agreement, ScenarioId};
 use gridswarm::ipc::{self, RunFile, RunReport};
 use gridswarm::nofile;
 use gridswarm::outcome::{RunConfig, RunResult};
@@ -155,6 +156,9 @@ pub fn execute_as(opts: &RunOptions, what: &str, warnings: &mut Vec<String>) -> 
 /// What a run is, before any process starts.
 pub struct Plan {
     pub scenario: Scenario,
+    /// The scenario's id, taken before the run's overrides, as the world
+    /// and a hand-started agent take it.
+    pub scenario_id: ScenarioId,
     pub world: World,
     pub starts: Vec<u32>,
     pub robots: usize,
@@ -171,6 +175,7 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
         )));
     }
     let mut scenario = contract::load_scenario(&opts.scenario)?;
+    let scenario_id = ScenarioId::of(&scenario);
     if let Some(s) = opts.situation {
         scenario.situation = s;
     }
@@ -205,7 +210,15 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
     cfg.max_rounds = opts.max_rounds;
     cfg.radio = opts.radio;
     cfg.faults = faults;
-    Ok(Plan { scenario, world, starts, robots, cfg })
+    Ok(Plan { scenario, scenario_id, world, starts, robots, cfg })
+}
+
+impl Plan {
+    /// The agreement of this run under `key`, as its world holds it.
+    pub fn agreement(&self, key: &str) -> Agreement {
+        let c = &self.cfg;
+        Agreement::new(key, self.scenario_id.clone(), c.seed, c.policy, c.situation, self.world.params)
+    }
 }
 
 /// What one run produced, for [`run`]'s text and [`execute`]'s summary.
@@ -255,7 +268,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         retries: opts.retries,
         config: plan.cfg.clone(),
     };
-    files.write(&run_file, &plan.world, &plan.cfg)?;
+    files.write(&run_file, &plan.world, &plan.cfg, &plan.agreement(&prefix))?;
 
     let (tx, rx) = mpsc::channel();
     launch::forward_signals(tx.clone()).map_err(Error::Run)?;
@@ -295,7 +308,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     drop(files);
 
     let result = summary::result_of(&plan.world, &report);
-    let extra = summary::extra(&prefix, opts, &plan, &report, &followed, killed_at_end);
+    let extra = summary::extra(&prefix, opts, (&plan, &launch), &report, &followed, killed_at_end);
     let record = RunRecord {
         scenario: &plan.scenario,
         world: &plan.world,
@@ -351,13 +364,13 @@ fn follow(
                         applied[k] = inject::apply(f.kind, &mut procs.agents[f.robot]);
                     }
                     if !procs.go() {
-                        return Err(world_died(procs, watch.round));
+                        return Err(world_died(procs, true, watch.round));
                     }
                     // The world waited for us meanwhile.
                     watch.heard = Instant::now();
                 }
             }
-            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, watch.round)),
+            Ok(Event::WorldClosed) | Err(_) => return Err(world_died(procs, true, watch.round)),
             Ok(Event::Signal(s)) => return Err(interrupted(procs, s)),
         }
     }
@@ -365,7 +378,7 @@ fn follow(
     let run_ms = started.elapsed().as_secs_f64() * 1e3;
     if let Some(Ok(st)) = procs.world.as_mut().map(|w| w.wait()) {
         if !st.success() {
-            return Err(world_died(procs, round));
+            return Err(world_died(procs, true, round));
         }
     }
     Ok(Followed { applied, ready_ms, spawned_ms, run_ms })
@@ -404,7 +417,7 @@ fn next_event(
             if let Some((k, status)) = procs.failed_agent(watch.round.is_none()) {
                 // An agent that found its world gone: the world's end is the news.
                 if status.code() == Some(ipc::EXIT_WORLD_GONE) && procs.world_exited() {
-                    return Err(world_died(procs, watch.round));
+                    return Err(world_died(procs, true, watch.round));
                 }
                 return Err(agent_failed(procs, k, status, watch.round));
             }
@@ -433,7 +446,14 @@ fn agent_failed(procs: &mut Processes, k: usize, status: std::process::ExitStatu
     procs.abort();
     launch::default_signals();
     let how = launch::describe(status);
-    Error::Run(format!("robot-agent {k} failed {when} ({how}){}{shm}", said.unwrap_or_default()))
+    let msg = format!("robot-agent {k} failed {when} ({how}){}{shm}", said.unwrap_or_default());
+    // Refused by the world (or its arguments refused): the run's settings
+    // do not fit together.
+    if status.code() == Some(2) {
+        Error::Usage(msg)
+    } else {
+        Error::Run(msg)
+    }
 }
 
 /// Waits for the world's `ready`. Building the services of thousands of
@@ -445,7 +465,9 @@ fn wait_ready(procs: &mut Processes, rx: &Receiver<Event>) -> Result<()> {
         match rx.recv_timeout(AGENT_POLL) {
             Ok(Event::Line(l)) if l == "ready" => return Ok(()),
             Ok(Event::Line(_)) | Err(mpsc::RecvTimeoutError::Timeout) => {}
-            Ok(Event::WorldClosed) | Err(mpsc::RecvTimeoutError::Disconnected) => return Err(world_died(procs, None)),
+            Ok(Event::WorldClosed) | Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(world_died(procs, false, None))
+            }
             Ok(Event::Signal(s)) => return Err(interrupted(procs, s)),
         }
         if !ipc::pid_stopped(procs.world_pid()) {
@@ -462,12 +484,14 @@ fn read_report(files: &RunFiles) -> Result<RunReport> {
     serde_json::from_str(&text).map_err(|e| Error::Run(format!("the world's report is malformed: {e}")))
 }
 
-/// The world's verdict on its own end, once its stdout closed.
-fn world_died(procs: &mut Processes, round: Option<u32>) -> Error {
+/// The world's verdict on its own end, once its stdout closed (`ready`:
+/// after it said `ready`; `round`: its last `tick`).
+fn world_died(procs: &mut Processes, ready: bool, round: Option<u32>) -> Error {
     let status = procs.world.as_mut().and_then(|w| w.wait().ok());
     let how = status.map(launch::describe).unwrap_or_else(|| "unknown status".into());
     let when = match round {
         Some(k) => format!("in round {k}"),
+        None if ready => "at start".into(),
         None => "before it was ready".into(),
     };
     // Before the run's files go and free the space they held.
@@ -479,6 +503,10 @@ fn world_died(procs: &mut Processes, round: Option<u32>) -> Error {
     // Its own one-line reason, when it gave one.
     let said = procs.world_said();
     let why = said.iter().rev().find_map(|l| l.strip_prefix("error: ")).map(|r| format!(": {r}")).unwrap_or_default();
+    // Status 2: it refused an agent that does not agree with its run.
+    if status.and_then(|s| s.code()) == Some(2) {
+        return Error::Usage(format!("the world-server refused the run{why}"));
+    }
     Error::Run(format!("world-server {verb} ({how}) {when}{why}{shm}"))
 }
 

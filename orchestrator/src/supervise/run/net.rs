@@ -21,6 +21,8 @@ pub struct Launch {
     pub agents: Vec<String>,
     /// Whether the orchestrator starts the agents.
     pub agents_here: bool,
+    /// zenoh: the endpoints the world listens on (none: scouting).
+    pub endpoints: Vec<String>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -59,7 +61,7 @@ impl NetOptions {
         }
         let mut world = vec!["--transport".to_string(), "zenoh".into()];
         let mut agent = world.clone();
-        let listen = match (&self.remote_agents, self.listen.is_empty()) {
+        let listen: Vec<String> = match (&self.remote_agents, self.listen.is_empty()) {
             (_, false) => self.listen.clone(),
             (Some(_), true) => Vec::new(),
             (None, true) => vec![format!("tcp/127.0.0.1:{}", free_port()?)],
@@ -74,7 +76,7 @@ impl NetOptions {
             ),
             None => world.extend(["--key".to_string(), prefix.to_string()]),
         }
-        Ok(Launch { world, agents: agent, agents_here })
+        Ok(Launch { world, agents: agent, agents_here, endpoints: listen })
     }
 }
 
@@ -91,9 +93,13 @@ pub fn hand_hint(key: &str, opts: &super::RunOptions, plan: &super::Plan) -> Str
         extra += &format!(" --retries {r}");
     }
     format!(
-        "waiting for {} robot-agents; on their hosts run, for K in 0..{}:\n  robot-agent --transport zenoh --prefix {key}{connect} \
-         --scenario {} --seed {} --algorithm {}{extra} --robot K",
-        plan.robots, plan.robots, opts.scenario, opts.seed, opts.algorithm
+        "waiting for {} robot-agents; on their hosts run, once for each robot number K ({}):\n  \
+         robot-agent --transport zenoh --prefix {key}{connect} --scenario {} --seed {} --algorithm {}{extra} --robot K",
+        plan.robots,
+        gridswarm::agreement::robot_range(plan.robots),
+        opts.scenario,
+        opts.seed,
+        opts.algorithm
     )
 }
 
@@ -122,12 +128,13 @@ mod tests {
     #[test]
     fn zenoh_on_one_machine_listens_on_loopback_and_agents_connect_there() {
         let o = NetOptions { transport: Transport::Zenoh, ..Default::default() };
-        let Launch { world, agents: agent, agents_here } = o.args("gs1x1_").unwrap();
+        let Launch { world, agents: agent, agents_here, endpoints } = o.args("gs1x1_").unwrap();
         assert!(agents_here);
         let at = world.iter().position(|a| a == "--listen").unwrap();
         assert!(world[at + 1].starts_with("tcp/127.0.0.1:"));
         assert_eq!(agent, ["--transport", "zenoh", "--connect", &world[at + 1]]);
         assert!(world.ends_with(&["--key".into(), "gs1x1_".into()]));
+        assert_eq!(endpoints, [world[at + 1].clone()]);
     }
 
     #[test]

@@ -13,6 +13,7 @@ use gridswarm::sim::{schedule, seconds, FaultKind};
 use gridswarm::world::World;
 use serde_json::{json, Value};
 
+use super::net::Launch;
 use super::{Followed, Plan, RunOptions};
 
 /// Nearest-rank percentile of unsorted samples.
@@ -81,11 +82,20 @@ fn per_robot_round(count: u64, result: &RunResult) -> Option<f64> {
     (result.robot_rounds > 0).then(|| count as f64 / result.robot_rounds as f64)
 }
 
+/// How the run's processes met: `transport` of the summary.
+fn transport(opts: &RunOptions, launch: &Launch) -> Value {
+    json!({
+        "name": opts.net.transport.name(),
+        "endpoints": launch.endpoints,
+        "remote_agents": opts.net.remote_agents.is_some(),
+    })
+}
+
 /// The engine=distributed fields of the summary.
 pub fn extra(
     prefix: &str,
     opts: &RunOptions,
-    plan: &Plan,
+    (plan, launch): (&Plan, &Launch),
     report: &RunReport,
     f: &Followed,
     killed_at_end: usize,
@@ -95,6 +105,9 @@ pub fn extra(
     let rss: Vec<f64> = report.agent_peak_rss_kib.iter().filter(|&&k| k > 0).map(|&k| k as f64).collect();
     json!({
         "engine": "distributed",
+        "transport": transport(opts, launch),
+        // What every robot-agent presented and the world accepted.
+        "agreement": report.agreement,
         "ipc_prefix": prefix,
         "max_rounds": opts.max_rounds,
         "radio": plan.cfg.radio,

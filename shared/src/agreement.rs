@@ -1,0 +1,207 @@
+//! What every process of a distributed run agrees on before the first
+//! slot (issue 23, point 1): the run key, the scenario (by its canonical
+//! text's SHA3-256), the seed, the algorithm, the situation, the
+//! parameters after the run's overrides, and the protocol version. Every
+//! robot-agent presents its [`Agreement`] in its hello; the world compares
+//! it with its own and refuses an agent that differs, naming every field
+//! that does on both sides (`seed: world 7, agent 8`), so that nothing is
+//! recorded under the world's seed that was computed under another.
+//!
+//! The agreement knows no transport: it travels in the hello, whatever
+//! carries the hello, and so holds whatever secures the link later.
+
+use serde::{Deserialize, Serialize};
+use sha3::{Digest, Sha3_256};
+
+use crate::params::{Params, Situation};
+use crate::policy::Policy;
+use crate::scenario::Scenario;
+
+/// The version of the world-agent messages ([`crate::wire`]). Version 1
+/// was the hello of a robot number and a process id alone; version 2
+/// added the agreement and the world's verdict. A hello starts with its
+/// version, so that a later world can read it whatever follows.
+pub const PROTOCOL_VERSION: u32 = 2;
+
+/// A scenario as the processes of a run name it: its `name`, and the
+/// SHA3-256 of its canonical text ([`Scenario::to_toml`], before the run's
+/// overrides), which two hosts compute alike from one file, a built-in name
+/// or a `random:` spec.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ScenarioId {
+    pub name: String,
+    /// Lowercase hex, 64 digits.
+    pub sha3_256: String,
+}
+
+impl ScenarioId {
+    pub fn of(scenario: &Scenario) -> Self {
+        let digest = Sha3_256::digest(scenario.to_toml("").as_bytes());
+        let sha3_256 = digest.iter().map(|b| format!("{b:02x}")).collect();
+        ScenarioId { name: scenario.name.clone(), sha3_256 }
+    }
+
+    /// `` `paper` (sha3 1a2b3c4d5e6f) ``: the name escaped, the hash's head.
+    fn shown(&self) -> String {
+        format!("`{}` (sha3 {})", shown(&self.name), shown(self.sha3_256.get(..12).unwrap_or(&self.sha3_256)))
+    }
+}
+
+/// What one run is, as every process of it must hold it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Agreement {
+    /// First, so that a hello of any version starts with its version.
+    pub protocol: u32,
+    /// The run key (zenoh: the root of its key expressions; iceoryx2: the
+    /// run's prefix).
+    pub key: String,
+    pub scenario: ScenarioId,
+    pub seed: u64,
+    /// The grid algorithm, by name (a custom rule's too).
+    pub algorithm: String,
+    /// 1 or 2.
+    pub situation: u8,
+    /// The parameters after the run's overrides (`--retries`).
+    pub params: Params,
+}
+
+impl Agreement {
+    /// This build's agreement on a run of `scenario` (its id taken before
+    /// the run's overrides) with `params` (after them).
+    pub fn new(
+        key: &str,
+        scenario: ScenarioId,
+        seed: u64,
+        policy: Policy,
+        situation: Situation,
+        params: Params,
+    ) -> Self {
+        Agreement {
+            protocol: PROTOCOL_VERSION,
+            key: key.to_string(),
+            scenario,
+            seed,
+            algorithm: policy.name().to_string(),
+            situation: situation.number(),
+            params,
+        }
+    }
+
+    /// Every field in which `agent`'s agreement differs from this one (the
+    /// world's), as `field: world X, agent Y`; empty when they agree. A
+    /// different protocol version is said alone: the rest may mean
+    /// something else to the other side.
+    pub fn differences(&self, agent: &Agreement) -> Vec<String> {
+        if self == agent {
+            return Vec::new();
+        }
+        if self.protocol != agent.protocol {
+            return vec![format!("protocol version: world {}, agent {}", self.protocol, agent.protocol)];
+        }
+        let mut d = Vec::new();
+        let mut differ = |what: &str, world: String, agent: String| {
+            if world != agent {
+                d.push(format!("{what}: world {world}, agent {agent}"));
+            }
+        };
+        differ("run key", format!("`{}`", shown(&self.key)), format!("`{}`", shown(&agent.key)));
+        if self.scenario != agent.scenario {
+            differ("scenario", self.scenario.shown(), agent.scenario.shown());
+        }
+        differ("seed", self.seed.to_string(), agent.seed.to_string());
+        differ("algorithm", shown(&self.algorithm).into(), shown(&agent.algorithm).into());
+        differ("situation", self.situation.to_string(), agent.situation.to_string());
+        for (name, world, agent) in param_differences(&self.params, &agent.params) {
+            differ(&format!("params.{name}"), world, agent);
+        }
+        d
+    }
+}
+
+/// The parameters that differ, by name, with both values as TOML writes them.
+fn param_differences(world: &Params, agent: &Params) -> Vec<(String, String, String)> {
+    let table = |p: &Params| match toml::Value::try_from(p) {
+        Ok(toml::Value::Table(t)) => t,
+        _ => toml::map::Map::new(),
+    };
+    let (w, a) = (table(world), table(agent));
+    let mut out: Vec<(String, String, String)> = w
+        .iter()
+        .filter(|(k, v)| a.get(*k) != Some(v))
+        .map(|(k, v)| (k.clone(), v.to_string(), a.get(k).map_or_else(|| "none".into(), |x| x.to_string())))
+        .collect();
+    // NaN differs from itself yet shows alike: still a difference, and
+    // said as one (the bits tell apart what the text cannot).
+    if out.is_empty() && world != agent {
+        out.push(("(some)".into(), format!("{world:?}"), format!("{agent:?}")));
+    }
+    out
+}
+
+/// `s` with its control characters escaped: text from another process
+/// (a scenario's name, a host name) never reaches a terminal raw.
+pub fn shown(s: &str) -> std::borrow::Cow<'_, str> {
+    if !s.chars().any(char::is_control) {
+        return s.into();
+    }
+    s.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
+}
+
+/// Robot numbers `0..n` as a bash user reads them: `0 to 12`, `only 0`.
+pub fn robot_range(n: usize) -> String {
+    match n {
+        0 => "none".into(),
+        1 => "only 0".into(),
+        n => format!("0 to {}", n - 1),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn paper(seed: u64) -> Agreement {
+        let sc = Scenario::builtin("paper").unwrap();
+        Agreement::new("lab2", ScenarioId::of(&sc), seed, Policy::Repulsive, Situation::Two, sc.params)
+    }
+
+    #[test]
+    fn the_same_run_agrees_and_a_scenario_hashes_alike_when_reread() {
+        assert!(paper(7).differences(&paper(7)).is_empty());
+        let sc = Scenario::builtin("paper").unwrap();
+        let again = Scenario::parse(&sc.to_toml("a comment"), "copy.toml").unwrap();
+        assert_eq!(ScenarioId::of(&again), ScenarioId::of(&sc), "comments and file name aside");
+        assert_eq!(ScenarioId::of(&sc).sha3_256.len(), 64);
+    }
+
+    #[test]
+    fn every_difference_is_named_on_both_sides() {
+        let world = paper(7);
+        let mut agent = paper(8);
+        assert_eq!(world.differences(&agent), ["seed: world 7, agent 8"]);
+        let open = Scenario::builtin("open").unwrap();
+        agent.scenario = ScenarioId::of(&open);
+        agent.params.retries = 2;
+        agent.algorithm = "sequential".into();
+        agent.key = "lab\u{1b}[2J".into();
+        let d = world.differences(&agent).join("; ");
+        for want in [
+            "run key: world `lab2`, agent `lab\\u{1b}[2J`",
+            "scenario: world `paper` (sha3 ",
+            "agent `open` (sha3 ",
+            "seed: world 7, agent 8",
+            "algorithm: world repulsive, agent sequential",
+            "params.retries: world 0, agent 2",
+        ] {
+            assert!(d.contains(want), "{want} in {d}");
+        }
+        agent.protocol = 3;
+        assert_eq!(world.differences(&agent), ["protocol version: world 2, agent 3"]);
+    }
+
+    #[test]
+    fn ranges_read_as_words() {
+        assert_eq!(robot_range(13), "0 to 12");
+        assert_eq!(robot_range(1), "only 0");
+    }
+}
