@@ -51,6 +51,7 @@
 //! generated from the seed ([`random`]); [`Scenario::to_toml`] writes any
 //! scenario back in this format.
 
+mod file;
 mod gaps;
 pub mod limits;
 mod locate;
@@ -59,6 +60,7 @@ mod raw;
 mod starts;
 mod write;
 
+pub use file::MAX_FILE_BYTES;
 pub(crate) use gaps::{boundary_gap, box_distance, self_passages, shape_gap, Gap};
 
 use crate::geometry::{Point, Polygon, Shape};
@@ -193,14 +195,13 @@ impl Scenario {
         if random::is_random(name_or_path) {
             return random::load(name_or_path);
         }
-        let text = std::fs::read_to_string(name_or_path).map_err(|e| {
+        let text = file::read(name_or_path).map_err(|e| {
             ScenarioError::new(
                 name_or_path,
                 None,
                 "",
                 format!(
-                    "cannot read scenario file: {e} (not a built-in scenario either; those are: {}; \
-                     or a random map, {})",
+                    "{e} (not a built-in scenario either; those are: {}; or a random map, {})",
                     BUILTIN.join(", "),
                     random::SYNTAX
                 ),

@@ -218,3 +218,29 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
     let listed = doc.lines().filter(|l| l.starts_with("| `M") || l.starts_with("| `AREA")).count();
     assert_eq!(listed, floats.len() + counts.len());
 }
+
+/// Issue 23: a point is `[x, y]`, exactly two numbers, wherever a point
+/// is written; a longer or shorter array is an error naming the field.
+#[test]
+fn points_have_exactly_two_numbers() {
+    let area = "[area]\npolygon = [[0, 0], [10, 0], [10, 10], [0, 10]]\n";
+    let cases = [
+        ("targets = [[5, 5, \"x\"]]\n".to_string() + area, "targets"),
+        ("targets = [[5, 5, 1]]\n".to_string() + area, "targets"),
+        ("targets = [[5]]\n".to_string() + area, "targets"),
+        ("[area]\npolygon = [[0, 0], [10, 0, \"x\"], [10, 10], [0, 10]]\n".to_string(), "area.polygon"),
+        (format!("{area}[[obstacles]]\ncircle = {{ center = [5, 5, 0], radius = 1 }}\n"), "obstacles"),
+        (format!("{area}[[obstacles]]\nrect = {{ min = [2, 2], max = [3, 3, 3] }}\n"), "obstacles"),
+        (format!("{area}[starts]\npoints = [[1, 1], [2, 1, []]]\n"), "starts.points"),
+        (format!("{area}[starts]\nborder = {{ from = [0, 0, 0] }}\n"), "starts.border"),
+    ];
+    for (text, field) in cases {
+        let e = refused(&text, "points.toml");
+        let shown = e.to_string();
+        assert!(e.field.starts_with(field), "{text}: {shown}");
+        assert!(e.message.contains("exactly two numbers"), "{text}: {shown}");
+        assert!(e.line().is_some(), "{shown}");
+    }
+    // Two numbers, integers or not, still read.
+    Scenario::parse(&format!("targets = [[5, 5.5]]\n{area}"), "ok.toml").unwrap();
+}

@@ -12,7 +12,43 @@ use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
 use crate::params::{Params, RuCollisions, Situation};
 
-type Xy = [f64; 2];
+/// A point as written: `[x, y]`, exactly two numbers. A plain `[f64; 2]`
+/// took the first two elements of any longer array (`[10, 0, "x"]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Xy([f64; 2]);
+
+impl std::ops::Deref for Xy {
+    type Target = [f64; 2];
+    fn deref(&self) -> &[f64; 2] {
+        &self.0
+    }
+}
+
+impl<'de> Deserialize<'de> for Xy {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Xy, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = Xy;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a point [x, y] of exactly two numbers")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Xy, A::Error> {
+                use serde::de::Error;
+                let x = seq.next_element::<f64>()?.ok_or_else(|| A::Error::invalid_length(0, &self))?;
+                let y = seq.next_element::<f64>()?.ok_or_else(|| A::Error::invalid_length(1, &self))?;
+                let mut n = 2;
+                while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                    n += 1;
+                }
+                if n > 2 {
+                    return Err(A::Error::invalid_length(n, &self));
+                }
+                Ok(Xy([x, y]))
+            }
+        }
+        d.deserialize_seq(Visit)
+    }
+}
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
