@@ -55,13 +55,15 @@ mod file;
 mod gaps;
 pub mod limits;
 mod locate;
+mod pairs;
 pub mod random;
 mod raw;
 mod starts;
 mod write;
 
 pub use file::MAX_FILE_BYTES;
-pub(crate) use gaps::{boundary_gap, box_distance, self_passages, shape_gap, Gap};
+pub(crate) use gaps::{boundary_gap_of, self_passages, shape_gap, Gap};
+pub(crate) use pairs::near as near_pairs;
 
 use crate::geometry::{Point, Polygon, Shape};
 use crate::grid::VertexId;

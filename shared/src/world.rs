@@ -6,7 +6,7 @@
 
 use std::collections::VecDeque;
 
-mod buckets;
+pub(crate) mod buckets;
 
 use crate::bitset::Bitset;
 use crate::geometry::{crosses_ray, point_segment_distance, segment_segment_distance, Point, Polygon, Shape};

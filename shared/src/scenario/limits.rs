@@ -15,7 +15,7 @@
 //! every constant.
 
 use super::{Scenario, ScenarioError};
-use crate::geometry::Shape;
+use crate::geometry::{Polygon, Shape};
 use crate::lattice::LatticeKind;
 
 /// Largest |x| or |y| of any point (m): keeps lattice coordinates
@@ -71,6 +71,24 @@ pub const AREA_CORNER_WEIGHT: usize = 20;
 /// Robots times frame vertices: every robot's map holds about 1.25 bytes
 /// per frame vertex.
 pub const MAX_ROBOT_VERTICES: f64 = 4e8;
+/// Perimeter of the area and every obstacle together, in grid sides `a`
+/// (a circle's is `2 pi r`). The coverage check samples every edge each
+/// `a/20` and the raster of `Ad` crosses every edge once a row of side
+/// `a/10`: 8,000 thin quads 600 m long made 9.5 million sides, 25 s of
+/// `check` (issue 23). A 400 x 400 m `random:` map has some 43,000.
+pub const MAX_PERIMETER_SIDES: f64 = 2e5;
+/// Obstacle boxes, each grown by `2a + 2 r_safe` and counted in `a^2`,
+/// times (corners + 1): how many times building the world and checking it
+/// may test a vertex against an obstacle, since both look at the obstacles
+/// whose boxes are near a vertex. A long thin diagonal obstacle has a box
+/// far bigger than itself: 8,000 of them 150 m long took minutes.
+pub const MAX_COVER_WORK: f64 = 1e7;
+/// Segment tests of the gaps between pieces near one another (boxes within
+/// `3a`): obstacle to obstacle and to the area's edges, and every
+/// polygon against itself, as admission and Assumption 3.1.3 measure them
+/// ([`crate::scenario::pairs`]). 8,000 quads 3 cm apart are 32 million
+/// pairs; ten interleaved zigzags of 1,000 corners 25 million tests.
+pub const MAX_PAIR_WORK: f64 = 5e7;
 /// Largest LFP gain or length scale (`scale`, `k_robot`, `k_obstacle`):
 /// larger ones overflow the potential field to infinity.
 pub const MAX_LFP_GAIN: f64 = 1e6;
@@ -262,6 +280,72 @@ pub fn round_limit(round_work: f64) -> Result<u32, String> {
     }
 }
 
+/// The shape limits of a map ([`MAX_PERIMETER_SIDES`], [`MAX_COVER_WORK`],
+/// [`MAX_PAIR_WORK`]), computed from its pieces before any of the work
+/// they bound, with the pairs worth measuring (boxes within `3a`) when
+/// they fit.
+pub(crate) fn check_geometry(
+    area: &Polygon,
+    obstacles: &[Shape],
+    a: f64,
+    r_safe: f64,
+) -> Result<super::pairs::Near, String> {
+    let edges = |p: &Polygon| p.edges().map(|(u, v)| (v - u).norm()).sum::<f64>();
+    let length = |s: &Shape| match s {
+        Shape::Polygon(p) => edges(p),
+        Shape::Circle(c) => 2.0 * std::f64::consts::PI * c.radius,
+    };
+    let sides = (edges(area) + obstacles.iter().map(length).sum::<f64>()) / a;
+    if sides > MAX_PERIMETER_SIDES {
+        return Err(format!(
+            "the area's and the obstacles' edges are {sides:.0} grid sides long in all, above the limit \
+             MAX_PERIMETER_SIDES = {MAX_PERIMETER_SIDES:e} (fewer or shorter obstacles, or a larger a)"
+        ));
+    }
+    let g = 2.0 * a + 2.0 * r_safe;
+    let cover: f64 = obstacles
+        .iter()
+        .map(|o| {
+            let (lo, hi) = o.bounding_box();
+            (super::pairs::weight(o) + 1.0) * (hi.x - lo.x + 2.0 * g) * (hi.y - lo.y + 2.0 * g) / (a * a)
+        })
+        .sum();
+    if cover > MAX_COVER_WORK {
+        return Err(format!(
+            "the obstacles' bounding boxes (grown by 2a + 2 r_safe, in a^2) times their corners + 1 come to \
+             {cover:.3e}, above the limit MAX_COVER_WORK = {MAX_COVER_WORK:e}: every vertex in an obstacle's box is \
+             tested against it (long thin diagonal obstacles have boxes far bigger than themselves)"
+        ));
+    }
+    let selves: f64 = std::iter::once(area)
+        .chain(obstacles.iter().filter_map(|o| match o {
+            Shape::Polygon(p) => Some(p),
+            Shape::Circle(_) => None,
+        }))
+        .map(super::pairs::self_work)
+        .sum();
+    let wide = PASSAGE_SIDES * a + 1e-9;
+    let crowded = |c: super::pairs::Crowded| {
+        format!(
+            "obstacles crowd too close to measure: their gaps up to {PASSAGE_SIDES}a and their own edges take more than \
+             {:.3e} segment tests (the last near ({:.2}, {:.2})), above the limit MAX_PAIR_WORK = {MAX_PAIR_WORK:e} \
+             (spread them, or merge near ones into one)",
+            c.work + selves,
+            c.at.x,
+            c.at.y
+        )
+    };
+    if selves > MAX_PAIR_WORK {
+        let at = area.points[0];
+        return Err(crowded(super::pairs::Crowded { work: 0.0, at }));
+    }
+    super::pairs::near(area, obstacles, wide, wide, MAX_PAIR_WORK - selves).map_err(crowded)
+}
+
+/// The widest gap Assumption 3.1.3 measures as a passage, in grid sides
+/// (wider is open space).
+pub(crate) const PASSAGE_SIDES: f64 = 3.0;
+
 /// Builds the error of a broken limit for `file`.
 pub(crate) fn error(file: &str, field: &str, message: String) -> ScenarioError {
     ScenarioError::new(file, None, field, message)
@@ -290,7 +374,9 @@ pub fn admit(s: &Scenario) -> Result<(), ScenarioError> {
     let extent = Extent { width: hi.x - lo.x, height: hi.y - lo.y, a: s.params.a, kind: s.grid };
     let pieces = pieces(s.area.points.len(), s.obstacles.len(), s.targets.len());
     check_size(&extent, pieces).map_err(|m| err("area.polygon", m))?;
-    check_robots(s.robots, extent.frame_vertices()).map_err(|m| err("robots", m))
+    check_robots(s.robots, extent.frame_vertices()).map_err(|m| err("robots", m))?;
+    check_geometry(&s.area, &s.obstacles, s.params.a, s.params.r_safe).map_err(|m| err("obstacles", m))?;
+    Ok(())
 }
 
 #[cfg(test)]

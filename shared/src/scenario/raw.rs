@@ -416,31 +416,14 @@ impl RawScenario {
         self.admit(ctx, &area, grid_side(ctx, self.params.a)?, grid, robots)?;
         let params = std::mem::take(&mut self.params).into_params(ctx)?;
         check_lfp(ctx, &self.lfp)?;
-        let mut obstacles: Vec<Shape> = Vec::with_capacity(self.obstacles.len());
-        let mut boxes = Vec::with_capacity(self.obstacles.len());
-        for (k, raw) in self.obstacles.into_iter().enumerate() {
-            let field = format!("obstacles[{k}]");
-            let shape = raw.into_shape(ctx, &field)?;
-            if !gaps::strictly_inside(&area, &shape) {
-                let g = gaps::boundary_gap(&area, &shape);
-                let why = if g.width == 0.0 {
-                    format!("meets the area boundary near {}", fmt_xy(g.a))
-                } else {
-                    "lies outside the area".to_string()
-                };
-                return Err(ctx.err(field, format!("must lie inside the area, clear of its boundary, but {why}")));
-            }
-            let bx = shape.bounding_box();
-            // Boxes apart by any distance: the shapes cannot meet.
-            let near = boxes.iter().enumerate().filter(|(_, b)| gaps::box_distance(b, &bx) == 0.0);
-            for (j, _) in near {
-                let g = gaps::shape_gap(&obstacles[j], &shape);
-                if g.width == 0.0 {
-                    return Err(ctx.err(field, format!("overlaps or touches obstacles[{j}] near {}", fmt_xy(g.a))));
-                }
-            }
-            obstacles.push(shape);
-            boxes.push(bx);
+        let (obstacles, bad_shape) = shapes(ctx, self.obstacles);
+        let near =
+            limits::check_geometry(&area, &obstacles, params.a, params.r_safe).map_err(|m| ctx.err("obstacles", m))?;
+        check_placement(ctx, &area, &obstacles, &near)?;
+        // A shape that could not be read is reported after the ones before
+        // it are placed, as when each was checked as it was read.
+        if let Some(e) = bad_shape {
+            return Err(e);
         }
 
         let mut targets = Vec::with_capacity(self.targets.len());
@@ -499,6 +482,63 @@ impl RawScenario {
         limits::check_size(&extent, pieces).map_err(|m| ctx.err(field, m))?;
         limits::check_robots(robots, extent.frame_vertices()).map_err(|m| ctx.err("robots", m))
     }
+}
+
+/// The obstacles as shapes, up to the first that cannot be read (and its error).
+fn shapes(ctx: &Ctx, raw: Vec<RawObstacle>) -> (Vec<Shape>, Option<ScenarioError>) {
+    let mut out = Vec::with_capacity(raw.len());
+    for (k, raw) in raw.into_iter().enumerate() {
+        match raw.into_shape(ctx, &format!("obstacles[{k}]")) {
+            Ok(s) => out.push(s),
+            Err(e) => return (out, Some(e)),
+        }
+    }
+    (out, None)
+}
+
+/// Every obstacle inside the area, clear of its boundary, and clear of
+/// every obstacle before it; the first that is not is the error. Only the
+/// pieces `near` lists (boxes within `3a`) are measured: pieces whose
+/// boxes are apart cannot meet.
+fn check_placement(
+    ctx: &Ctx,
+    area: &Polygon,
+    obstacles: &[Shape],
+    near: &super::pairs::Near,
+) -> Result<(), ScenarioError> {
+    let edges: Vec<(Point, Point)> = area.edges().collect();
+    let mut boundary = vec![Vec::new(); obstacles.len()];
+    for &(i, e) in &near.boundary {
+        boundary[i as usize].push(edges[e as usize]);
+    }
+    let mut earlier = vec![Vec::new(); obstacles.len()];
+    for &(i, j) in &near.obstacles {
+        earlier[j as usize].push(i as usize);
+    }
+    for (k, shape) in obstacles.iter().enumerate() {
+        let field = format!("obstacles[{k}]");
+        if !gaps::strictly_inside_near(area, boundary[k].iter().copied(), shape) {
+            let g = gaps::boundary_gap(area, shape);
+            let why = if g.width == 0.0 {
+                format!("meets the area boundary near {}", fmt_xy(g.a))
+            } else {
+                "lies outside the area".to_string()
+            };
+            return Err(ctx.err(field, format!("must lie inside the area, clear of its boundary, but {why}")));
+        }
+        let bx = shape.bounding_box();
+        // Boxes apart by any distance: the shapes cannot meet.
+        for &j in &earlier[k] {
+            if gaps::box_distance(&obstacles[j].bounding_box(), &bx) > 0.0 {
+                continue;
+            }
+            let g = gaps::shape_gap(&obstacles[j], shape);
+            if g.width == 0.0 {
+                return Err(ctx.err(field, format!("overlaps or touches obstacles[{j}] near {}", fmt_xy(g.a))));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Start points, each snapped to an accessible vertex of its own. The test
