@@ -198,6 +198,9 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         ("MAX_FLIGHT_SIDES", limits::MAX_FLIGHT_SIDES),
         ("MAX_TURN_SIGMA", limits::MAX_TURN_SIGMA),
         ("MAX_SEARCH_WORK", limits::MAX_SEARCH_WORK),
+        ("MAX_PERIMETER_SIDES", limits::MAX_PERIMETER_SIDES),
+        ("MAX_COVER_WORK", limits::MAX_COVER_WORK),
+        ("MAX_PAIR_WORK", limits::MAX_PAIR_WORK),
     ];
     let counts = [
         ("MAX_CORNERS", limits::MAX_CORNERS),
@@ -207,6 +210,7 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         ("MAX_ROBOTS", limits::MAX_ROBOTS),
         ("MAX_MICRO_STEPS", limits::MAX_MICRO_STEPS as usize),
         ("AREA_CORNER_WEIGHT", limits::AREA_CORNER_WEIGHT),
+        ("MAX_FILE_BYTES", gridswarm::scenario::MAX_FILE_BYTES as usize),
     ];
     let rows =
         floats.iter().map(|(n, v)| (*n, limits::show(*v))).chain(counts.iter().map(|(n, v)| (*n, v.to_string())));
