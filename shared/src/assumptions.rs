@@ -468,13 +468,14 @@ fn coverage(w: &World, va: &[bool]) -> Check {
             }
         }
     }
-    let in_ad = w.in_ad_near();
+    // The same cells, row by row (world/rows.rs), as testing each.
+    let in_ad = w.raster(h);
     let mut missed = 0usize;
     let mut first: Option<Point> = None;
     for y in 0..ny {
         for x in 0..nx {
             let p = cell(x, y);
-            if !hit[y * nx + x] && in_ad(p) {
+            if !hit[y * nx + x] && in_ad.cell_in_ad(y * nx + x) {
                 missed += 1;
                 first.get_or_insert(p);
             }
