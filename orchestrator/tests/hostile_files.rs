@@ -134,3 +134,20 @@ fn devices_fifos_big_files_and_long_points_are_refused_quickly() {
         assert!(err.starts_with("error: ") && err.contains(why), "{args}: {err}");
     }
 }
+
+/// Issue 23: a scenario file's own text in an error (an unknown key, here
+/// holding a screen-clearing escape) is printed escaped too.
+#[test]
+fn an_error_quoting_the_file_prints_its_control_characters_escaped() {
+    let dir = std::env::temp_dir().join(format!("gs-e2e-keys-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("key.toml");
+    std::fs::write(&file, "\"a\\u001b[2Jb\" = 1\n[area]\npolygon = [[0, 0], [20, 0], [20, 10], [0, 10]]\n").unwrap();
+    let out = within_bound(&["check", file.to_str().unwrap()]);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(!err.contains('\u{1b}'), "a raw escape: {err:?}");
+    assert!(err.contains("unknown field `a\\u{1b}[2Jb`"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}

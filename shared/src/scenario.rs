@@ -131,7 +131,19 @@ impl ScenarioError {
         self.at.map(|(l, _)| l)
     }
 
+    /// The error as one printable line: the file's own text (an unknown
+    /// key, a name) may hold an escape sequence that would clear or
+    /// rewrite the terminal, so every control character is shown escaped
+    /// (`\u{1b}`), as the commands show a scenario's name.
     fn one_line(&self) -> String {
+        let s = self.raw_line();
+        if !s.chars().any(char::is_control) {
+            return s;
+        }
+        s.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
+    }
+
+    fn raw_line(&self) -> String {
         let mut s = self.file.clone();
         if let Some((line, col)) = self.at {
             s.push_str(&format!(":{line}:{col}"));
