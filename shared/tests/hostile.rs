@@ -399,3 +399,39 @@ fn many_pockets_are_each_matched_to_va_quickly() {
     let report = admitted_or_refused(&s, "stars.toml").unwrap();
     assert!(report.get("3.1.2").unwrap().detail.contains("of 28504 pocket apexes"), "{report}");
 }
+
+#[test]
+fn many_start_points_and_targets_beside_many_corners_are_read_quickly() {
+    // 100 stars of 200 corners, 8,000 targets and 50,000 start points:
+    // each point was tested against every obstacle, and each start point
+    // against every earlier one (65,535 points: 11.8 s of check).
+    let mut s = "robots = 3\n".to_string();
+    let targets: Vec<String> =
+        (0..8_000).map(|k| format!("[{}.5,{}.5]", (k % 250) * 2 + 3, (k / 250) * 2 + 3)).collect();
+    s += &format!("targets=[{}]\n", targets.join(","));
+    s += "[area]\npolygon = [[0, 0], [600, 0], [600, 600], [0, 600]]\n";
+    for j in 0..100 {
+        let (cx, cy) = (10.0 + (j % 50) as f64 * 11.5, 550.0 + (j / 50) as f64 * 30.0);
+        let pts: Vec<String> = (0..200)
+            .map(|t| {
+                let (ang, r) = (std::f64::consts::TAU * t as f64 / 200.0, if t % 2 == 0 { 4.0 } else { 3.5 });
+                format!("[{:.2},{:.2}]", cx + r * ang.cos(), cy + r * ang.sin())
+            })
+            .collect();
+        s += &format!("[[obstacles]]\npolygon=[{}]\n", pts.join(","));
+    }
+    let starts: Vec<String> = (0..50_000).map(|k| format!("[{},{}]", (k % 250) * 2 + 3, (k / 250) * 2 + 3)).collect();
+    s += &format!("[starts]\npoints=[{}]\n", starts.join(","));
+    assert!(s.len() as u64 <= gridswarm::scenario::MAX_FILE_BYTES, "{} bytes", s.len());
+    let (parsed, took) = cpu::timed(|| Scenario::parse(&s, "points.toml"));
+    assert!(took < QUICK, "{took:?}");
+    let parsed = parsed.unwrap();
+    assert_eq!((parsed.targets.len(), parsed.obstacles.len()), (8_000, 100));
+    // A start point inside a star, and two on one vertex, are still found.
+    let inside = s.replace("[starts]\npoints=[[3,3],", "[starts]\npoints=[[10,550],");
+    let e = refused(&inside, "inside.toml");
+    assert!(e.field == "starts.points[0]" && e.message.contains("not accessible"), "{e}");
+    let twice = s.replace("[starts]\npoints=[[3,3],", "[starts]\npoints=[[5,3],");
+    let e = refused(&twice, "twice.toml");
+    assert!(e.field == "starts.points[1]" && e.message.contains("like starts.points[0]"), "{e}");
+}

@@ -426,6 +426,9 @@ impl RawScenario {
             return Err(e);
         }
 
+        // Point tests look only at the obstacles whose boxes hold the point
+        // (targets and start points times obstacles were up to 10^9 tests).
+        let near = ObstacleBoxes::new(&area, &obstacles, params.r_safe.max(0.0) + params.a);
         let mut targets = Vec::with_capacity(self.targets.len());
         for (k, &xy) in self.targets.iter().enumerate() {
             let field = format!("targets[{k}]");
@@ -433,7 +436,7 @@ impl RawScenario {
             if !area.contains(p) {
                 return Err(ctx.err(field, format!("{} is outside the area, so not in Ad", fmt_xy(p))));
             }
-            if let Some(j) = obstacles.iter().position(|o| o.contains(p)) {
+            if let Some(j) = near.at(p).find(|&j| obstacles[j].contains(p)) {
                 return Err(ctx.err(field, format!("{} is inside obstacles[{j}], so not in Ad", fmt_xy(p))));
             }
             targets.push(p);
@@ -445,7 +448,7 @@ impl RawScenario {
                 Starts::Border { from: point(ctx, "starts.border.from", b.from)? }
             }
             Some(RawStarts { border: None, points: Some(pts) }) => {
-                let pts = start_points(ctx, &pts, robots, &area, &obstacles, &params, grid)?;
+                let pts = start_points(ctx, &pts, robots, &area, (&obstacles, &near), &params, grid)?;
                 Starts::Points(pts)
             }
             Some(_) => return Err(ctx.err("starts", "give exactly one of `border` or `points`")),
@@ -541,6 +544,27 @@ fn check_placement(
     Ok(())
 }
 
+/// Obstacles by the cells their boxes, grown by a margin, cover: a point
+/// farther than the margin from an obstacle's box is neither in it nor
+/// within the margin of it.
+struct ObstacleBoxes {
+    cells: crate::world::buckets::Buckets,
+}
+
+impl ObstacleBoxes {
+    fn new(area: &Polygon, obstacles: &[Shape], margin: f64) -> Self {
+        let boxes: Vec<(Point, Point)> = obstacles.iter().map(Shape::bounding_box).collect();
+        let (lo, hi) = area.bounding_box();
+        let side = (2.0 * margin).max((hi.x - lo.x).max(hi.y - lo.y) / 1000.0).max(1e-9);
+        ObstacleBoxes { cells: crate::world::buckets::Buckets::new(lo, hi, (side, side), &boxes, margin) }
+    }
+
+    /// Obstacles whose grown box may hold `p`, ascending (and maybe others).
+    fn at(&self, p: Point) -> impl Iterator<Item = usize> + '_ {
+        self.cells.near(p).iter().map(|&j| j as usize)
+    }
+}
+
 /// Start points, each snapped to an accessible vertex of its own. The test
 /// repeats the world's clearance rule for one vertex rather than building the
 /// whole world.
@@ -549,7 +573,7 @@ fn start_points(
     raw: &[Xy],
     robots: usize,
     area: &Polygon,
-    obstacles: &[Shape],
+    (obstacles, near): (&[Shape], &ObstacleBoxes),
     params: &Params,
     grid: LatticeKind,
 ) -> Result<Vec<Point>, ScenarioError> {
@@ -560,7 +584,7 @@ fn start_points(
         ));
     }
     let lattice = Lattice::new(grid, params.a);
-    let mut seen = Vec::with_capacity(raw.len());
+    let mut seen = std::collections::HashMap::with_capacity(raw.len());
     let mut out = Vec::with_capacity(raw.len());
     for (k, &xy) in raw.iter().enumerate() {
         let field = format!("starts.points[{k}]");
@@ -569,7 +593,7 @@ fn start_points(
         let q = lattice.position(c);
         let clear = area.contains(q)
             && area.boundary_distance(q) >= params.r_safe
-            && obstacles.iter().all(|o| o.distance(q) >= params.r_safe);
+            && near.at(q).all(|j| obstacles[j].distance(q) >= params.r_safe);
         if !clear {
             return Err(ctx.err(
                 field,
@@ -581,13 +605,12 @@ fn start_points(
                 ),
             ));
         }
-        if let Some(j) = seen.iter().position(|&d| d == c) {
+        if let Some(j) = seen.insert(c, k) {
             return Err(ctx.err(
                 field,
                 format!("snaps to vertex {} like starts.points[{j}]: two robots on one vertex", fmt_xy(q)),
             ));
         }
-        seen.push(c);
         out.push(p);
     }
     Ok(out)
