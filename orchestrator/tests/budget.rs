@@ -9,7 +9,7 @@ use std::process::Output;
 use gridswarm::scenario::limits::{DEFAULT_MAX_ROUNDS, MAX_SEARCH_WORK};
 
 mod common;
-use common::{gridswarm, text};
+use common::{gridswarm, scratch, text};
 
 /// The JSON summary of a run that ended incomplete (exit status 3).
 fn incomplete(o: &Output) -> serde_json::Value {
@@ -106,4 +106,33 @@ fn every_rule_of_a_big_team_stops_at_the_budget() {
         let limit = assert_cut_by_budget(&o);
         assert!(limit <= most, "{rule}: {limit}");
     }
+}
+
+/// Issue 23: `large` with `r_c = 1000`, where every one of its 50 robots
+/// hears every other. On a perfect radio the budget grants 1,493 rounds
+/// (3.1 s of CPU measured, 2.8 s predicted); an impaired radio made the
+/// same rounds up to 8 times dearer (25 s at `--dup 0.5`), and now counts
+/// for it: the rounds granted fall by `IMPAIRED_FRAME_WORK x (1 + dup)`
+/// on the frames' share.
+#[test]
+fn a_radio_heard_by_everyone_is_budgeted_and_an_impaired_one_dearer() {
+    use gridswarm::scenario::limits::{frame_factor, hearable, round_limit, round_work};
+    let large =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenarios/large.toml")).unwrap();
+    let wide = large.replacen("[params]\n", "[params]\nr_c = 1000\n", 1);
+    assert_ne!(wide, large, "large.toml has a [params] table");
+    let dir = scratch("radio_range");
+    let file = dir.join("large-rc1000.toml");
+    std::fs::write(&file, wide).unwrap();
+    let path = file.to_str().unwrap();
+    let perfect = assert_cut_by_budget(&gridswarm(&["simulate", "--scenario", path, "--json"]));
+    let dup = assert_cut_by_budget(&gridswarm(&["simulate", "--scenario", path, "--dup", "0.5", "--json"]));
+    // What the budget predicts, from the same counts.
+    let world = gridswarm::scenario::Scenario::load(path).unwrap().world();
+    let heard = hearable(50, 1000.0, 1.0, world.grid.lattice.kind);
+    let rounds = |f| round_limit(round_work(50, world.grid.len() as f64, heard, f)).unwrap() as u64;
+    assert_eq!(perfect, rounds(1.0));
+    assert_eq!(dup, rounds(frame_factor(false, 0.5)));
+    assert!((1000..2000).contains(&perfect) && dup * 6 < perfect, "{perfect} {dup}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

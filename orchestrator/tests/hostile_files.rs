@@ -94,3 +94,60 @@ fn a_name_with_control_characters_is_printed_escaped() {
         assert!(all.contains("\\u{1b}[2J\\nerror: fake"), "{args:?} does not show the name escaped: {all}");
     }
 }
+
+/// Issue 23: what `--scenario` may name. A device would be read until
+/// memory runs out and a FIFO would block forever; a file over 1 MB and a
+/// point of three elements are refused too. Each ends within the bound,
+/// exit 1, one `error:` line saying why.
+#[test]
+fn devices_fifos_big_files_and_long_points_are_refused_quickly() {
+    let dir = std::env::temp_dir().join(format!("gs-e2e-inputs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("fifo.toml");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0, "mkfifo");
+    let big = dir.join("big.toml");
+    std::fs::write(&big, "#".repeat(1 << 20) + "\n").unwrap();
+    let point = dir.join("point.toml");
+    std::fs::write(&point, "targets = [[10, 0, \"x\"]]\n[area]\npolygon = [[0, 0], [20, 0], [20, 10], [0, 10]]\n")
+        .unwrap();
+    let cases = [
+        ("/dev/zero".to_string(), "a character device, not a regular file"),
+        (fifo.to_str().unwrap().to_string(), "a FIFO, not a regular file"),
+        (big.to_str().unwrap().to_string(), "1048577 bytes, above the limit MAX_FILE_BYTES = 1048576 bytes (1 MB)"),
+        (
+            point.to_str().unwrap().to_string(),
+            "targets[0]: invalid length 3, expected a point [x, y] of exactly two numbers",
+        ),
+    ];
+    let mut outputs = Vec::new();
+    for (path, why) in &cases {
+        for args in [vec!["check", path.as_str()], vec!["simulate", "--scenario", path.as_str()]] {
+            outputs.push((args.join(" "), *why, within_bound(&args)));
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    for (args, why, out) in outputs {
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args}: {err}");
+        assert!(err.starts_with("error: ") && err.contains(why), "{args}: {err}");
+    }
+}
+
+/// Issue 23: a scenario file's own text in an error (an unknown key, here
+/// holding a screen-clearing escape) is printed escaped too.
+#[test]
+fn an_error_quoting_the_file_prints_its_control_characters_escaped() {
+    let dir = std::env::temp_dir().join(format!("gs-e2e-keys-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("key.toml");
+    std::fs::write(&file, "\"a\\u001b[2Jb\" = 1\n[area]\npolygon = [[0, 0], [20, 0], [20, 10], [0, 10]]\n").unwrap();
+    let out = within_bound(&["check", file.to_str().unwrap()]);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(!err.contains('\u{1b}'), "a raw escape: {err:?}");
+    assert!(err.contains("unknown field `a\\u{1b}[2Jb`"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}

@@ -171,8 +171,16 @@ fn pockets(w: &World, va: &[bool]) -> Check {
             pieces.push((format!("obstacles[{i}] corner"), poly, false));
         }
     }
-    let va_points: Vec<Point> =
-        (0..w.grid.len() as VertexId).filter(|&v| va[v as usize]).map(|v| w.grid.position(v)).collect();
+    // The nearest vertex of Va to each apex from an R-tree: apexes times
+    // Va was up to 5e4 x 1e6 distances (issue 23).
+    let va_points: Vec<[f64; 2]> = (0..w.grid.len() as VertexId)
+        .filter(|&v| va[v as usize])
+        .map(|v| {
+            let q = w.grid.position(v);
+            [q.x, q.y]
+        })
+        .collect();
+    let va_tree = rstar::RTree::bulk_load(va_points);
     let mut count = 0;
     // (apex distance to Va, angle, which corner, apex)
     let mut worst: Option<(f64, f64, String, Point)> = None;
@@ -183,7 +191,9 @@ fn pockets(w: &World, va: &[bool]) -> Check {
             }
             count += 1;
             let apex = poly.points[k];
-            let dist = va_points.iter().map(|&q| (q - apex).norm()).fold(f64::INFINITY, f64::min);
+            let dist = va_tree
+                .nearest_neighbor([apex.x, apex.y])
+                .map_or(f64::INFINITY, |&[x, y]| (Point::new(x, y) - apex).norm());
             if worst.as_ref().is_none_or(|w| dist > w.0) {
                 worst = Some((dist, theta, format!("{what} {k}"), apex));
             }
@@ -234,20 +244,44 @@ fn pockets(w: &World, va: &[bool]) -> Check {
 fn passages(w: &World) -> Check {
     let p = &w.params;
     let w_pass = p.a + 2.0 * p.r_safe;
-    let wide = 3.0 * p.a + TOL;
+    let wide = scenario::limits::PASSAGE_SIDES * p.a + TOL;
     let passage = |g: &scenario::Gap| g.width > 0.0 && g.width <= wide;
-    // Named only when shown: the pairs are quadratic in the obstacles.
-    let mut found: Vec<(Between, scenario::Gap)> = Vec::new();
-    let boxes: Vec<_> = w.obstacles.iter().map(Shape::bounding_box).collect();
-    for (i, o) in w.obstacles.iter().enumerate() {
-        for (j, q) in w.obstacles.iter().enumerate().skip(i + 1) {
-            // The boxes' distance bounds the gap from below: a pair whose
-            // boxes are farther apart than 3a has no passage between them.
-            if scenario::box_distance(&boxes[i], &boxes[j]) <= wide {
-                found.push((Between::Obstacles(i, j), scenario::shape_gap(o, q)));
+    let title = "passages at least W_pass = a + 2 r_safe wide";
+    // Only pieces whose boxes are within 3a can make a passage; admission
+    // bounded what measuring them costs (limits::MAX_PAIR_WORK).
+    let near = match scenario::near_pairs(&w.area, &w.obstacles, wide, wide, scenario::limits::MAX_PAIR_WORK) {
+        Ok(near) => near,
+        Err(c) => {
+            return Check {
+                id: "3.1.3",
+                title,
+                holds: false,
+                detail: format!(
+                    "not measured: obstacles crowd near ({:.2}, {:.2}) past the limit MAX_PAIR_WORK",
+                    c.at.x, c.at.y
+                ),
             }
         }
-        found.push((Between::Boundary(i), scenario::boundary_gap(&w.area, o)));
+    };
+    let edges: Vec<(Point, Point)> = w.area.edges().collect();
+    let mut boundary = vec![Vec::new(); w.obstacles.len()];
+    for &(i, e) in &near.boundary {
+        boundary[i as usize].push(edges[e as usize]);
+    }
+    let mut pairs = near.obstacles.iter().peekable();
+    // Named only when shown: pairs may be many.
+    let mut found: Vec<(Between, scenario::Gap)> = Vec::new();
+    for (i, o) in w.obstacles.iter().enumerate() {
+        while let Some(&(_, j)) = pairs.next_if(|&&(a, _)| a as usize == i) {
+            let g = scenario::shape_gap(o, &w.obstacles[j as usize]);
+            if passage(&g) {
+                found.push((Between::Obstacles(i, j as usize), g));
+            }
+        }
+        let g = scenario::boundary_gap_of(boundary[i].iter().copied(), o);
+        if passage(&g) {
+            found.push((Between::Boundary(i), g));
+        }
         if let Shape::Polygon(poly) = o {
             for (x, y, g) in scenario::self_passages(poly, false) {
                 found.push((Between::ObstacleEdges(i, x, y), g));
@@ -258,7 +292,6 @@ fn passages(w: &World) -> Check {
         found.push((Between::AreaEdges(x, y), g));
     }
     found.retain(|(_, g)| passage(g));
-    let title = "passages at least W_pass = a + 2 r_safe wide";
     let narrowest = found.iter().min_by(|a, b| a.1.width.total_cmp(&b.1.width));
     match narrowest {
         None => Check {
@@ -435,13 +468,14 @@ fn coverage(w: &World, va: &[bool]) -> Check {
             }
         }
     }
-    let in_ad = w.in_ad_near();
+    // The same cells, row by row (world/rows.rs), as testing each.
+    let in_ad = w.raster(h);
     let mut missed = 0usize;
     let mut first: Option<Point> = None;
     for y in 0..ny {
         for x in 0..nx {
             let p = cell(x, y);
-            if !hit[y * nx + x] && in_ad(p) {
+            if !hit[y * nx + x] && in_ad.cell_in_ad(y * nx + x) {
                 missed += 1;
                 first.get_or_insert(p);
             }

@@ -51,15 +51,19 @@
 //! generated from the seed ([`random`]); [`Scenario::to_toml`] writes any
 //! scenario back in this format.
 
+mod file;
 mod gaps;
 pub mod limits;
 mod locate;
+mod pairs;
 pub mod random;
 mod raw;
 mod starts;
 mod write;
 
-pub(crate) use gaps::{boundary_gap, box_distance, self_passages, shape_gap, Gap};
+pub use file::MAX_FILE_BYTES;
+pub(crate) use gaps::{boundary_gap_of, self_passages, shape_gap, Gap};
+pub(crate) use pairs::near as near_pairs;
 
 use crate::geometry::{Point, Polygon, Shape};
 use crate::grid::VertexId;
@@ -127,7 +131,19 @@ impl ScenarioError {
         self.at.map(|(l, _)| l)
     }
 
+    /// The error as one printable line: the file's own text (an unknown
+    /// key, a name) may hold an escape sequence that would clear or
+    /// rewrite the terminal, so every control character is shown escaped
+    /// (`\u{1b}`), as the commands show a scenario's name.
     fn one_line(&self) -> String {
+        let s = self.raw_line();
+        if !s.chars().any(char::is_control) {
+            return s;
+        }
+        s.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
+    }
+
+    fn raw_line(&self) -> String {
         let mut s = self.file.clone();
         if let Some((line, col)) = self.at {
             s.push_str(&format!(":{line}:{col}"));
@@ -193,14 +209,13 @@ impl Scenario {
         if random::is_random(name_or_path) {
             return random::load(name_or_path);
         }
-        let text = std::fs::read_to_string(name_or_path).map_err(|e| {
+        let text = file::read(name_or_path).map_err(|e| {
             ScenarioError::new(
                 name_or_path,
                 None,
                 "",
                 format!(
-                    "cannot read scenario file: {e} (not a built-in scenario either; those are: {}; \
-                     or a random map, {})",
+                    "{e} (not a built-in scenario either; those are: {}; or a random map, {})",
                     BUILTIN.join(", "),
                     random::SYNTAX
                 ),

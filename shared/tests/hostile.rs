@@ -198,6 +198,9 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         ("MAX_FLIGHT_SIDES", limits::MAX_FLIGHT_SIDES),
         ("MAX_TURN_SIGMA", limits::MAX_TURN_SIGMA),
         ("MAX_SEARCH_WORK", limits::MAX_SEARCH_WORK),
+        ("MAX_PERIMETER_SIDES", limits::MAX_PERIMETER_SIDES),
+        ("MAX_COVER_WORK", limits::MAX_COVER_WORK),
+        ("MAX_PAIR_WORK", limits::MAX_PAIR_WORK),
     ];
     let counts = [
         ("MAX_CORNERS", limits::MAX_CORNERS),
@@ -207,6 +210,7 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         ("MAX_ROBOTS", limits::MAX_ROBOTS),
         ("MAX_MICRO_STEPS", limits::MAX_MICRO_STEPS as usize),
         ("AREA_CORNER_WEIGHT", limits::AREA_CORNER_WEIGHT),
+        ("MAX_FILE_BYTES", gridswarm::scenario::MAX_FILE_BYTES as usize),
     ];
     let rows =
         floats.iter().map(|(n, v)| (*n, limits::show(*v))).chain(counts.iter().map(|(n, v)| (*n, v.to_string())));
@@ -217,4 +221,217 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
     // And no row for a constant that does not exist.
     let listed = doc.lines().filter(|l| l.starts_with("| `M") || l.starts_with("| `AREA")).count();
     assert_eq!(listed, floats.len() + counts.len());
+}
+
+/// Issue 23: a point is `[x, y]`, exactly two numbers, wherever a point
+/// is written; a longer or shorter array is an error naming the field.
+#[test]
+fn points_have_exactly_two_numbers() {
+    let area = "[area]\npolygon = [[0, 0], [10, 0], [10, 10], [0, 10]]\n";
+    let cases = [
+        ("targets = [[5, 5, \"x\"]]\n".to_string() + area, "targets"),
+        ("targets = [[5, 5, 1]]\n".to_string() + area, "targets"),
+        ("targets = [[5]]\n".to_string() + area, "targets"),
+        ("[area]\npolygon = [[0, 0], [10, 0, \"x\"], [10, 10], [0, 10]]\n".to_string(), "area.polygon"),
+        (format!("{area}[[obstacles]]\ncircle = {{ center = [5, 5, 0], radius = 1 }}\n"), "obstacles"),
+        (format!("{area}[[obstacles]]\nrect = {{ min = [2, 2], max = [3, 3, 3] }}\n"), "obstacles"),
+        (format!("{area}[starts]\npoints = [[1, 1], [2, 1, []]]\n"), "starts.points"),
+        (format!("{area}[starts]\nborder = {{ from = [0, 0, 0] }}\n"), "starts.border"),
+    ];
+    for (text, field) in cases {
+        let e = refused(&text, "points.toml");
+        let shown = e.to_string();
+        assert!(e.field.starts_with(field), "{text}: {shown}");
+        assert!(e.message.contains("exactly two numbers"), "{text}: {shown}");
+        assert!(e.line().is_some(), "{shown}");
+    }
+    // Two numbers, integers or not, still read.
+    Scenario::parse(&format!("targets = [[5, 5.5]]\n{area}"), "ok.toml").unwrap();
+}
+
+// Issue 23: maps whose checks were quadratic. Each is made here, at most
+// 1 MB of TOML, and either refused at admission with the limit named or
+// admitted and checked; the CPU bound is the issue's 5 s, a failure guard
+// only (most take a fraction of it).
+
+/// `n` four-corner obstacles, one TOML table each, in a `w` x `h` area.
+fn quads(w: f64, h: f64, quads: impl Iterator<Item = [(f64, f64); 4]>) -> String {
+    let mut s = format!("[area]\npolygon = [[0, 0], [{w}, 0], [{w}, {h}], [0, {h}]]\n");
+    for q in quads {
+        let pts: Vec<String> = q.iter().map(|(x, y)| format!("[{x:.2}, {y:.2}]")).collect();
+        s += &format!("[[obstacles]]\npolygon = [{}]\n", pts.join(", "));
+    }
+    assert!(s.len() as u64 <= gridswarm::scenario::MAX_FILE_BYTES, "{} bytes", s.len());
+    s
+}
+
+/// Parses and, if admitted, builds the world and checks every assumption,
+/// as `gridswarm check` does; the error if refused.
+fn admitted_or_refused(text: &str, source: &str) -> Result<gridswarm::assumptions::Report, ScenarioError> {
+    let (result, took) = cpu::timed(|| {
+        let s = Scenario::parse(text, source)?;
+        let w = s.world();
+        let starts = s.start_vertices(&w, s.robots)?;
+        Ok(gridswarm::assumptions::check(&s, &w, &starts))
+    });
+    assert!(took < Duration::from_secs(5), "{source}: took {took:?} of CPU");
+    result
+}
+
+#[test]
+fn eight_thousand_crowded_quads_are_refused_naming_the_pair_limit() {
+    // 1 cm quads 3 cm apart: 32 million pairs within 3a. check took 85 s
+    // and 2.8 GB on the issue's machine and aborted under a 2 GB cap.
+    let text = quads(
+        40.0,
+        40.0,
+        (0..8000).map(|k| {
+            let (x, y) = (5.0 + (k % 100) as f64 * 0.03, 5.0 + (k / 100) as f64 * 0.03);
+            [(x, y), (x + 0.01, y), (x + 0.01, y + 0.01), (x, y + 0.01)]
+        }),
+    );
+    let e = admitted_or_refused(&text, "crowded.toml").unwrap_err();
+    assert_eq!(e.field, "obstacles", "{e}");
+    assert!(e.message.contains("MAX_PAIR_WORK = 5e7"), "{e}");
+}
+
+#[test]
+fn two_thousand_thin_quads_in_rows_are_admitted_and_checked() {
+    // 5 cm x 50 cm quads 10 cm apart: 350,000 passages, all measured.
+    let text = quads(
+        30.0,
+        30.0,
+        (0..2000).map(|k| {
+            let (x, y) = (5.0 + (k % 100) as f64 * 0.1, 5.0 + (k / 100) as f64 * 0.8);
+            [(x, y), (x + 0.05, y), (x + 0.05, y + 0.5), (x, y + 0.5)]
+        }),
+    );
+    let report = admitted_or_refused(&text, "rows.toml").unwrap();
+    let passages = report.get("3.1.3").unwrap();
+    assert!(!passages.holds && passages.detail.contains("narrowest of 347718 passages"), "{passages:?}");
+}
+
+#[test]
+fn long_and_diagonal_slivers_are_refused_by_their_length_and_boxes() {
+    // 8,000 slivers 596 m long: 9.5 million grid sides of edge (25 s).
+    let text = quads(
+        600.0,
+        600.0,
+        (0..8000).map(|k| {
+            let y = 2.0 + k as f64 * 0.07;
+            [(2.0, y), (598.0, y), (598.0, y + 0.02), (2.0, y + 0.02)]
+        }),
+    );
+    let e = admitted_or_refused(&text, "long.toml").unwrap_err();
+    assert!(e.message.contains("MAX_PERIMETER_SIDES = 2e5"), "{e}");
+    // 450 diagonal slivers 212 m long: short enough, but each box holds
+    // 23,000 m^2 of vertices to test (12 s).
+    let text = quads(
+        800.0,
+        160.0,
+        (0..450).map(|k| {
+            let o = 2.0 + k as f64 * 0.5;
+            [(o, 2.0), (o + 0.02, 2.0), (o + 150.02, 152.0), (o + 150.0, 152.0)]
+        }),
+    );
+    let e = admitted_or_refused(&text, "diagonal.toml").unwrap_err();
+    assert!(e.message.contains("MAX_COVER_WORK = 1e7"), "{e}");
+    // 80 of them fit every limit, and are checked.
+    let text = quads(
+        800.0,
+        160.0,
+        (0..80).map(|k| {
+            let o = 2.0 + k as f64 * 0.5;
+            [(o, 2.0), (o + 0.02, 2.0), (o + 150.02, 152.0), (o + 150.0, 152.0)]
+        }),
+    );
+    admitted_or_refused(&text, "diagonal80.toml").unwrap();
+}
+
+/// `k` combs of `corners` corners each, teeth `pitch` apart, one above
+/// the other 1 m apart.
+fn zigzags(k: usize, corners: usize, pitch: f64) -> String {
+    let mut s = format!("[area]\npolygon = [[0, 0], [220, 0], [220, {}], [0, {0}]]\n", 20 + k);
+    let teeth = (corners - 2) / 2;
+    let p = if pitch >= 0.4 { 1 } else { 2 };
+    for j in 0..k {
+        let y0 = 3.0 + j as f64;
+        let mut pts = Vec::with_capacity(corners);
+        for t in 0..teeth {
+            let x = 3.0 + t as f64 * pitch;
+            pts.push(format!("[{x:.p$},{y0}]"));
+            pts.push(format!("[{:.p$},{}]", x + pitch / 2.0, y0 + 0.5));
+        }
+        pts.push(format!("[{:.p$},{}]", 3.0 + teeth as f64 * pitch, y0 - 0.3));
+        pts.push(format!("[3,{}]", y0 - 0.3));
+        s += &format!("[[obstacles]]\npolygon=[{}]\n", pts.join(","));
+    }
+    assert!(s.len() as u64 <= gridswarm::scenario::MAX_FILE_BYTES, "{} bytes", s.len());
+    s
+}
+
+#[test]
+fn zigzag_polygons_of_a_thousand_corners_are_checked_or_refused_in_bounds() {
+    // Ten, 100 m long: every pocket, passage and edge measured.
+    let report = admitted_or_refused(&zigzags(10, 1000, 0.2), "zigzag10.toml").unwrap();
+    assert!(report.get("3.1.2").unwrap().detail.contains("of 4984 pocket apexes"), "{report}");
+    // Ninety 200 m long (992 KB) took 15 s and 1.25 GB: refused.
+    let e = admitted_or_refused(&zigzags(90, 1000, 0.4), "zigzag90.toml").unwrap_err();
+    assert!(e.message.contains("MAX_COVER_WORK") || e.message.contains("MAX_PAIR_WORK"), "{e}");
+}
+
+#[test]
+fn many_pockets_are_each_matched_to_va_quickly() {
+    // 190 stars of 300 corners, 28,500 pocket apexes over a 620 m map:
+    // every apex against every vertex of Va took 16.7 s.
+    let mut s = "[area]\npolygon = [[0, 0], [620, 0], [620, 620], [0, 620]]\n".to_string();
+    for j in 0..190 {
+        let (cx, cy) = (20.0 + (j % 14) as f64 * 43.0, 20.0 + (j / 14) as f64 * 43.0);
+        let pts: Vec<String> = (0..300)
+            .map(|t| {
+                let (ang, r) = (std::f64::consts::TAU * t as f64 / 300.0, if t % 2 == 0 { 4.0 } else { 3.0 });
+                format!("[{:.2},{:.2}]", cx + r * ang.cos(), cy + r * ang.sin())
+            })
+            .collect();
+        s += &format!("[[obstacles]]\npolygon=[{}]\n", pts.join(","));
+    }
+    assert!(s.len() as u64 <= gridswarm::scenario::MAX_FILE_BYTES);
+    let report = admitted_or_refused(&s, "stars.toml").unwrap();
+    assert!(report.get("3.1.2").unwrap().detail.contains("of 28504 pocket apexes"), "{report}");
+}
+
+#[test]
+fn many_start_points_and_targets_beside_many_corners_are_read_quickly() {
+    // 100 stars of 200 corners, 8,000 targets and 50,000 start points:
+    // each point was tested against every obstacle, and each start point
+    // against every earlier one (65,535 points: 11.8 s of check).
+    let mut s = "robots = 3\n".to_string();
+    let targets: Vec<String> =
+        (0..8_000).map(|k| format!("[{}.5,{}.5]", (k % 250) * 2 + 3, (k / 250) * 2 + 3)).collect();
+    s += &format!("targets=[{}]\n", targets.join(","));
+    s += "[area]\npolygon = [[0, 0], [600, 0], [600, 600], [0, 600]]\n";
+    for j in 0..100 {
+        let (cx, cy) = (10.0 + (j % 50) as f64 * 11.5, 550.0 + (j / 50) as f64 * 30.0);
+        let pts: Vec<String> = (0..200)
+            .map(|t| {
+                let (ang, r) = (std::f64::consts::TAU * t as f64 / 200.0, if t % 2 == 0 { 4.0 } else { 3.5 });
+                format!("[{:.2},{:.2}]", cx + r * ang.cos(), cy + r * ang.sin())
+            })
+            .collect();
+        s += &format!("[[obstacles]]\npolygon=[{}]\n", pts.join(","));
+    }
+    let starts: Vec<String> = (0..50_000).map(|k| format!("[{},{}]", (k % 250) * 2 + 3, (k / 250) * 2 + 3)).collect();
+    s += &format!("[starts]\npoints=[{}]\n", starts.join(","));
+    assert!(s.len() as u64 <= gridswarm::scenario::MAX_FILE_BYTES, "{} bytes", s.len());
+    let (parsed, took) = cpu::timed(|| Scenario::parse(&s, "points.toml"));
+    assert!(took < QUICK, "{took:?}");
+    let parsed = parsed.unwrap();
+    assert_eq!((parsed.targets.len(), parsed.obstacles.len()), (8_000, 100));
+    // A start point inside a star, and two on one vertex, are still found.
+    let inside = s.replace("[starts]\npoints=[[3,3],", "[starts]\npoints=[[10,550],");
+    let e = refused(&inside, "inside.toml");
+    assert!(e.field == "starts.points[0]" && e.message.contains("not accessible"), "{e}");
+    let twice = s.replace("[starts]\npoints=[[3,3],", "[starts]\npoints=[[5,3],");
+    let e = refused(&twice, "twice.toml");
+    assert!(e.field == "starts.points[1]" && e.message.contains("like starts.points[0]"), "{e}");
 }

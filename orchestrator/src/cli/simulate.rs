@@ -62,7 +62,9 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     let stage = opts.out.as_deref().map(Staging::begin).transpose()?;
     let world = scenario.world();
     // Before the assumption checks, which are dear on a big map.
-    let (max_rounds, budget) = round_limit(opts.max_rounds, &world, robots, opts.algorithm).map_err(Error::Input)?;
+    let frames = limits::frame_factor(cfg.radio.is_perfect(), cfg.radio.dup);
+    let (max_rounds, budget) =
+        round_limit(opts.max_rounds, &world, robots, opts.algorithm, frames).map_err(Error::Input)?;
     let starts = contract::start_vertices(&scenario, &world, robots)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
         eprintln!("{w}");
@@ -140,6 +142,7 @@ pub fn round_limit(
     world: &World,
     robots: usize,
     algorithm: Policy,
+    frames: f64,
 ) -> std::result::Result<(u32, Option<Budgeted>), String> {
     if let Some(n) = given {
         return Ok((n, None));
@@ -149,7 +152,7 @@ pub fn round_limit(
         limits::lfp_round_work(robots)
     } else {
         let heard = limits::hearable(robots, p.r_c, p.a, world.grid.lattice.kind);
-        limits::round_work(robots, world.grid.len() as f64, heard)
+        limits::round_work(robots, world.grid.len() as f64, heard, frames)
     };
     let n = limits::round_limit(round_work)?;
     Ok((n, (n < limits::DEFAULT_MAX_ROUNDS).then_some(Budgeted { round_work })))

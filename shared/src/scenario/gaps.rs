@@ -124,8 +124,15 @@ fn polygon_circle_gap(p: &Polygon, center: Point, radius: f64) -> Gap {
 /// Gap from a shape to the boundary of `area` (zero when it meets or
 /// crosses it). Says nothing about which side the shape is on.
 pub(crate) fn boundary_gap(area: &Polygon, s: &Shape) -> Gap {
+    boundary_gap_of(area.edges(), s)
+}
+
+/// [`boundary_gap`] over some of the area's edges only, in order: those
+/// whose boxes come near the shape's (see [`super::pairs`]); infinite when
+/// there are none.
+pub(crate) fn boundary_gap_of(edges: impl Iterator<Item = (Point, Point)>, s: &Shape) -> Gap {
     let mut best = FAR;
-    for (a, b) in area.edges() {
+    for (a, b) in edges {
         let g = match s {
             Shape::Circle(c) => segment_circle_gap(a, b, c.center, c.radius),
             Shape::Polygon(p) => p.edges().map(|(c, d)| segment_gap(c, d, a, b)).fold(FAR, Gap::min),
@@ -138,11 +145,17 @@ pub(crate) fn boundary_gap(area: &Polygon, s: &Shape) -> Gap {
 
 /// Whether `s` lies strictly inside `area`, clear of its boundary.
 pub(crate) fn strictly_inside(area: &Polygon, s: &Shape) -> bool {
+    strictly_inside_near(area, area.edges(), s)
+}
+
+/// [`strictly_inside`], measuring the gap to `edges` of the area only:
+/// they must include every edge whose box meets the shape's.
+pub(crate) fn strictly_inside_near(area: &Polygon, edges: impl Iterator<Item = (Point, Point)>, s: &Shape) -> bool {
     let probe = match s {
         Shape::Circle(c) => c.center,
         Shape::Polygon(p) => p.points[0],
     };
-    area.contains(probe) && boundary_gap(area, s).width > 0.0
+    area.contains(probe) && boundary_gap_of(edges, s).width > 0.0
 }
 
 /// Narrowest gap across a polygon's own concavity: between two non-adjacent

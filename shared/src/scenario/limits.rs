@@ -15,7 +15,7 @@
 //! every constant.
 
 use super::{Scenario, ScenarioError};
-use crate::geometry::Shape;
+use crate::geometry::{Polygon, Shape};
 use crate::lattice::LatticeKind;
 
 /// Largest |x| or |y| of any point (m): keeps lattice coordinates
@@ -71,6 +71,25 @@ pub const AREA_CORNER_WEIGHT: usize = 20;
 /// Robots times frame vertices: every robot's map holds about 1.25 bytes
 /// per frame vertex.
 pub const MAX_ROBOT_VERTICES: f64 = 4e8;
+/// Perimeter of the area and every obstacle together, in grid sides `a`
+/// (a circle's is `2 pi r`). The coverage check samples every edge each
+/// `a/20` and the raster of `Ad` crosses every edge once a row of side
+/// `a/10`: 8,000 thin quads 600 m long made 9.5 million sides, 25 s of
+/// `check` (issue 23). A 400 x 400 m `random:` map has some 43,000.
+pub const MAX_PERIMETER_SIDES: f64 = 2e5;
+/// Obstacle boxes, each grown by `2a + 2 r_safe` and counted in `a^2`,
+/// times (corners + 1): about how many edge tests building the world may
+/// make, since it tests each vertex and edge against the obstacles whose
+/// boxes are near it. A long thin diagonal obstacle has a box far bigger
+/// than itself: 450 of them 212 m long took 8 s of `check`; 80 (9.6e6)
+/// take 1.6 s. A 400 x 400 m `random:` map comes to about 1.4e6.
+pub const MAX_COVER_WORK: f64 = 1e7;
+/// Segment tests of the gaps between pieces near one another (boxes within
+/// `3a`): obstacle to obstacle and to the area's edges, and every
+/// polygon against itself, as admission and Assumption 3.1.3 measure them
+/// ([`crate::scenario::pairs`]). 8,000 quads 3 cm apart are 32 million
+/// pairs; ten interleaved zigzags of 1,000 corners 25 million tests.
+pub const MAX_PAIR_WORK: f64 = 5e7;
 /// Largest LFP gain or length scale (`scale`, `k_robot`, `k_obstacle`):
 /// larger ones overflow the potential field to infinity.
 pub const MAX_LFP_GAIN: f64 = 1e6;
@@ -99,6 +118,24 @@ pub const MAX_SEARCH_WORK: f64 = 1e11;
 /// among those already heard, so a robot that hears `k` others pays about
 /// `k^2` (500 robots in one radio range took 2.2 s a round).
 pub const HEARD_PAIR_WORK: f64 = 400.0;
+
+/// How many times dearer a frame between robots in range is when the radio
+/// is impaired (`--loss`, `--delay`, `--dup`), per `1 + dup`: measured on
+/// `large` with `r_c = 1000` (50 robots that all hear each other, 1,493
+/// rounds), 3.1 s of CPU on a perfect radio, 7.6 s at `--loss 0.1`, 18 s
+/// at `--delay 5:5` and 25 s at `--dup 0.5`, against the 2.8 s the budget
+/// granted each (issue 23).
+pub const IMPAIRED_FRAME_WORK: f64 = 6.0;
+
+/// What a frame costs against a perfect radio's: 1, or
+/// [`IMPAIRED_FRAME_WORK`] x (1 + `dup`) on an impaired radio.
+pub fn frame_factor(perfect: bool, dup: f64) -> f64 {
+    if perfect {
+        1.0
+    } else {
+        IMPAIRED_FRAME_WORK * (1.0 + dup.clamp(0.0, 1.0))
+    }
+}
 
 /// What a pair of robots costs an LFP round, in [`MAX_SEARCH_WORK`]'s
 /// units: LFP robots do not talk, but every micro-step looks at every pair
@@ -231,11 +268,11 @@ pub fn hearable(robots: usize, r_c: f64, a: f64, kind: LatticeKind) -> f64 {
 
 /// What one round of `robots` robots, each hearing at most `hearable`
 /// others, costs in [`MAX_SEARCH_WORK`]'s units: robots x (1 + heard) x
-/// frame vertices for the maps, robots x heard^2 x [`HEARD_PAIR_WORK`]
-/// for the frames.
-pub fn round_work(robots: usize, frame_vertices: f64, hearable: f64) -> f64 {
+/// frame vertices for the maps, robots x heard^2 x [`HEARD_PAIR_WORK`] x
+/// `frames` (from [`frame_factor`]) for the frames.
+pub fn round_work(robots: usize, frame_vertices: f64, hearable: f64, frames: f64) -> f64 {
     let maps = (1.0 + hearable) * frame_vertices.max(1.0);
-    robots as f64 * (maps + hearable * hearable * HEARD_PAIR_WORK)
+    robots as f64 * (maps + hearable * hearable * HEARD_PAIR_WORK * frames)
 }
 
 /// What one LFP round of `robots` robots costs, in [`MAX_SEARCH_WORK`]'s
@@ -261,6 +298,72 @@ pub fn round_limit(round_work: f64) -> Result<u32, String> {
         ))
     }
 }
+
+/// The shape limits of a map ([`MAX_PERIMETER_SIDES`], [`MAX_COVER_WORK`],
+/// [`MAX_PAIR_WORK`]), computed from its pieces before any of the work
+/// they bound, with the pairs worth measuring (boxes within `3a`) when
+/// they fit.
+pub(crate) fn check_geometry(
+    area: &Polygon,
+    obstacles: &[Shape],
+    a: f64,
+    r_safe: f64,
+) -> Result<super::pairs::Near, String> {
+    let edges = |p: &Polygon| p.edges().map(|(u, v)| (v - u).norm()).sum::<f64>();
+    let length = |s: &Shape| match s {
+        Shape::Polygon(p) => edges(p),
+        Shape::Circle(c) => 2.0 * std::f64::consts::PI * c.radius,
+    };
+    let sides = (edges(area) + obstacles.iter().map(length).sum::<f64>()) / a;
+    if sides > MAX_PERIMETER_SIDES {
+        return Err(format!(
+            "the area's and the obstacles' edges are {sides:.0} grid sides long in all, above the limit \
+             MAX_PERIMETER_SIDES = {MAX_PERIMETER_SIDES:e} (fewer or shorter obstacles, or a larger a)"
+        ));
+    }
+    let g = 2.0 * a + 2.0 * r_safe;
+    let cover: f64 = obstacles
+        .iter()
+        .map(|o| {
+            let (lo, hi) = o.bounding_box();
+            (super::pairs::weight(o) + 1.0) * (hi.x - lo.x + 2.0 * g) * (hi.y - lo.y + 2.0 * g) / (a * a)
+        })
+        .sum();
+    if cover > MAX_COVER_WORK {
+        return Err(format!(
+            "the obstacles' bounding boxes (grown by 2a + 2 r_safe, in a^2) times their corners + 1 come to \
+             {cover:.3e}, above the limit MAX_COVER_WORK = {MAX_COVER_WORK:e}: every vertex in an obstacle's box is \
+             tested against it (long thin diagonal obstacles have boxes far bigger than themselves)"
+        ));
+    }
+    let selves: f64 = std::iter::once(area)
+        .chain(obstacles.iter().filter_map(|o| match o {
+            Shape::Polygon(p) => Some(p),
+            Shape::Circle(_) => None,
+        }))
+        .map(super::pairs::self_work)
+        .sum();
+    let wide = PASSAGE_SIDES * a + 1e-9;
+    let crowded = |c: super::pairs::Crowded| {
+        format!(
+            "obstacles crowd too close to measure: their gaps up to {PASSAGE_SIDES}a and their own edges take more than \
+             {:.3e} segment tests (the last near ({:.2}, {:.2})), above the limit MAX_PAIR_WORK = {MAX_PAIR_WORK:e} \
+             (spread them, or merge near ones into one)",
+            c.work + selves,
+            c.at.x,
+            c.at.y
+        )
+    };
+    if selves > MAX_PAIR_WORK {
+        let at = area.points[0];
+        return Err(crowded(super::pairs::Crowded { work: 0.0, at }));
+    }
+    super::pairs::near(area, obstacles, wide, wide, MAX_PAIR_WORK - selves).map_err(crowded)
+}
+
+/// The widest gap Assumption 3.1.3 measures as a passage, in grid sides
+/// (wider is open space).
+pub(crate) const PASSAGE_SIDES: f64 = 3.0;
 
 /// Builds the error of a broken limit for `file`.
 pub(crate) fn error(file: &str, field: &str, message: String) -> ScenarioError {
@@ -290,7 +393,9 @@ pub fn admit(s: &Scenario) -> Result<(), ScenarioError> {
     let extent = Extent { width: hi.x - lo.x, height: hi.y - lo.y, a: s.params.a, kind: s.grid };
     let pieces = pieces(s.area.points.len(), s.obstacles.len(), s.targets.len());
     check_size(&extent, pieces).map_err(|m| err("area.polygon", m))?;
-    check_robots(s.robots, extent.frame_vertices()).map_err(|m| err("robots", m))
+    check_robots(s.robots, extent.frame_vertices()).map_err(|m| err("robots", m))?;
+    check_geometry(&s.area, &s.obstacles, s.params.a, s.params.r_safe).map_err(|m| err("obstacles", m))?;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -338,7 +443,7 @@ mod tests {
         let paper = Extent { width: 20.0, height: 16.0, a: 1.0, kind: LatticeKind::Triangular };
         let r_c = 2.1;
         let rounds = |robots: usize, e: &Extent| {
-            round_limit(round_work(robots, e.frame_vertices(), hearable(robots, r_c, e.a, e.kind))).unwrap()
+            round_limit(round_work(robots, e.frame_vertices(), hearable(robots, r_c, e.a, e.kind), 1.0)).unwrap()
         };
         // Fig. 7's counts on the paper map keep the whole default.
         assert_eq!(rounds(13, &paper), DEFAULT_MAX_ROUNDS);
@@ -351,8 +456,9 @@ mod tests {
         assert!((1..10).contains(&many), "{many}");
         // Everyone in one radio range: the frames, not the maps, cost.
         let field = Extent { width: 100.0, height: 100.0, ..paper };
-        let one_range =
-            |robots| round_limit(round_work(robots, field.frame_vertices(), hearable(robots, 300.0, 1.0, field.kind)));
+        let one_range = |robots| {
+            round_limit(round_work(robots, field.frame_vertices(), hearable(robots, 300.0, 1.0, field.kind), 1.0))
+        };
         // 100 robots: 0.035 s a round, measured.
         assert!(one_range(100).is_ok_and(|n| n < 300), "{:?}", one_range(100));
         assert_eq!(one_range(500), Ok(1));

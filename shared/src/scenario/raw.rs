@@ -12,7 +12,43 @@ use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
 use crate::params::{Params, RuCollisions, Situation};
 
-type Xy = [f64; 2];
+/// A point as written: `[x, y]`, exactly two numbers. A plain `[f64; 2]`
+/// took the first two elements of any longer array (`[10, 0, "x"]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Xy([f64; 2]);
+
+impl std::ops::Deref for Xy {
+    type Target = [f64; 2];
+    fn deref(&self) -> &[f64; 2] {
+        &self.0
+    }
+}
+
+impl<'de> Deserialize<'de> for Xy {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Xy, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = Xy;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a point [x, y] of exactly two numbers")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Xy, A::Error> {
+                use serde::de::Error;
+                let x = seq.next_element::<f64>()?.ok_or_else(|| A::Error::invalid_length(0, &self))?;
+                let y = seq.next_element::<f64>()?.ok_or_else(|| A::Error::invalid_length(1, &self))?;
+                let mut n = 2;
+                while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                    n += 1;
+                }
+                if n > 2 {
+                    return Err(A::Error::invalid_length(n, &self));
+                }
+                Ok(Xy([x, y]))
+            }
+        }
+        d.deserialize_seq(Visit)
+    }
+}
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -380,33 +416,19 @@ impl RawScenario {
         self.admit(ctx, &area, grid_side(ctx, self.params.a)?, grid, robots)?;
         let params = std::mem::take(&mut self.params).into_params(ctx)?;
         check_lfp(ctx, &self.lfp)?;
-        let mut obstacles: Vec<Shape> = Vec::with_capacity(self.obstacles.len());
-        let mut boxes = Vec::with_capacity(self.obstacles.len());
-        for (k, raw) in self.obstacles.into_iter().enumerate() {
-            let field = format!("obstacles[{k}]");
-            let shape = raw.into_shape(ctx, &field)?;
-            if !gaps::strictly_inside(&area, &shape) {
-                let g = gaps::boundary_gap(&area, &shape);
-                let why = if g.width == 0.0 {
-                    format!("meets the area boundary near {}", fmt_xy(g.a))
-                } else {
-                    "lies outside the area".to_string()
-                };
-                return Err(ctx.err(field, format!("must lie inside the area, clear of its boundary, but {why}")));
-            }
-            let bx = shape.bounding_box();
-            // Boxes apart by any distance: the shapes cannot meet.
-            let near = boxes.iter().enumerate().filter(|(_, b)| gaps::box_distance(b, &bx) == 0.0);
-            for (j, _) in near {
-                let g = gaps::shape_gap(&obstacles[j], &shape);
-                if g.width == 0.0 {
-                    return Err(ctx.err(field, format!("overlaps or touches obstacles[{j}] near {}", fmt_xy(g.a))));
-                }
-            }
-            obstacles.push(shape);
-            boxes.push(bx);
+        let (obstacles, bad_shape) = shapes(ctx, self.obstacles);
+        let near =
+            limits::check_geometry(&area, &obstacles, params.a, params.r_safe).map_err(|m| ctx.err("obstacles", m))?;
+        check_placement(ctx, &area, &obstacles, &near)?;
+        // A shape that could not be read is reported after the ones before
+        // it are placed, as when each was checked as it was read.
+        if let Some(e) = bad_shape {
+            return Err(e);
         }
 
+        // Point tests look only at the obstacles whose boxes hold the point
+        // (targets and start points times obstacles were up to 10^9 tests).
+        let near = ObstacleBoxes::new(&area, &obstacles, params.r_safe.max(0.0) + params.a);
         let mut targets = Vec::with_capacity(self.targets.len());
         for (k, &xy) in self.targets.iter().enumerate() {
             let field = format!("targets[{k}]");
@@ -414,7 +436,7 @@ impl RawScenario {
             if !area.contains(p) {
                 return Err(ctx.err(field, format!("{} is outside the area, so not in Ad", fmt_xy(p))));
             }
-            if let Some(j) = obstacles.iter().position(|o| o.contains(p)) {
+            if let Some(j) = near.at(p).find(|&j| obstacles[j].contains(p)) {
                 return Err(ctx.err(field, format!("{} is inside obstacles[{j}], so not in Ad", fmt_xy(p))));
             }
             targets.push(p);
@@ -426,7 +448,7 @@ impl RawScenario {
                 Starts::Border { from: point(ctx, "starts.border.from", b.from)? }
             }
             Some(RawStarts { border: None, points: Some(pts) }) => {
-                let pts = start_points(ctx, &pts, robots, &area, &obstacles, &params, grid)?;
+                let pts = start_points(ctx, &pts, robots, &area, (&obstacles, &near), &params, grid)?;
                 Starts::Points(pts)
             }
             Some(_) => return Err(ctx.err("starts", "give exactly one of `border` or `points`")),
@@ -465,6 +487,84 @@ impl RawScenario {
     }
 }
 
+/// The obstacles as shapes, up to the first that cannot be read (and its error).
+fn shapes(ctx: &Ctx, raw: Vec<RawObstacle>) -> (Vec<Shape>, Option<ScenarioError>) {
+    let mut out = Vec::with_capacity(raw.len());
+    for (k, raw) in raw.into_iter().enumerate() {
+        match raw.into_shape(ctx, &format!("obstacles[{k}]")) {
+            Ok(s) => out.push(s),
+            Err(e) => return (out, Some(e)),
+        }
+    }
+    (out, None)
+}
+
+/// Every obstacle inside the area, clear of its boundary, and clear of
+/// every obstacle before it; the first that is not is the error. Only the
+/// pieces `near` lists (boxes within `3a`) are measured: pieces whose
+/// boxes are apart cannot meet.
+fn check_placement(
+    ctx: &Ctx,
+    area: &Polygon,
+    obstacles: &[Shape],
+    near: &super::pairs::Near,
+) -> Result<(), ScenarioError> {
+    let edges: Vec<(Point, Point)> = area.edges().collect();
+    let mut boundary = vec![Vec::new(); obstacles.len()];
+    for &(i, e) in &near.boundary {
+        boundary[i as usize].push(edges[e as usize]);
+    }
+    let mut earlier = vec![Vec::new(); obstacles.len()];
+    for &(i, j) in &near.obstacles {
+        earlier[j as usize].push(i as usize);
+    }
+    for (k, shape) in obstacles.iter().enumerate() {
+        let field = format!("obstacles[{k}]");
+        if !gaps::strictly_inside_near(area, boundary[k].iter().copied(), shape) {
+            let g = gaps::boundary_gap(area, shape);
+            let why = if g.width == 0.0 {
+                format!("meets the area boundary near {}", fmt_xy(g.a))
+            } else {
+                "lies outside the area".to_string()
+            };
+            return Err(ctx.err(field, format!("must lie inside the area, clear of its boundary, but {why}")));
+        }
+        let bx = shape.bounding_box();
+        // Boxes apart by any distance: the shapes cannot meet.
+        for &j in &earlier[k] {
+            if gaps::box_distance(&obstacles[j].bounding_box(), &bx) > 0.0 {
+                continue;
+            }
+            let g = gaps::shape_gap(&obstacles[j], shape);
+            if g.width == 0.0 {
+                return Err(ctx.err(field, format!("overlaps or touches obstacles[{j}] near {}", fmt_xy(g.a))));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Obstacles by the cells their boxes, grown by a margin, cover: a point
+/// farther than the margin from an obstacle's box is neither in it nor
+/// within the margin of it.
+struct ObstacleBoxes {
+    cells: crate::world::buckets::Buckets,
+}
+
+impl ObstacleBoxes {
+    fn new(area: &Polygon, obstacles: &[Shape], margin: f64) -> Self {
+        let boxes: Vec<(Point, Point)> = obstacles.iter().map(Shape::bounding_box).collect();
+        let (lo, hi) = area.bounding_box();
+        let side = (2.0 * margin).max((hi.x - lo.x).max(hi.y - lo.y) / 1000.0).max(1e-9);
+        ObstacleBoxes { cells: crate::world::buckets::Buckets::new(lo, hi, (side, side), &boxes, margin) }
+    }
+
+    /// Obstacles whose grown box may hold `p`, ascending (and maybe others).
+    fn at(&self, p: Point) -> impl Iterator<Item = usize> + '_ {
+        self.cells.near(p).iter().map(|&j| j as usize)
+    }
+}
+
 /// Start points, each snapped to an accessible vertex of its own. The test
 /// repeats the world's clearance rule for one vertex rather than building the
 /// whole world.
@@ -473,7 +573,7 @@ fn start_points(
     raw: &[Xy],
     robots: usize,
     area: &Polygon,
-    obstacles: &[Shape],
+    (obstacles, near): (&[Shape], &ObstacleBoxes),
     params: &Params,
     grid: LatticeKind,
 ) -> Result<Vec<Point>, ScenarioError> {
@@ -484,7 +584,7 @@ fn start_points(
         ));
     }
     let lattice = Lattice::new(grid, params.a);
-    let mut seen = Vec::with_capacity(raw.len());
+    let mut seen = std::collections::HashMap::with_capacity(raw.len());
     let mut out = Vec::with_capacity(raw.len());
     for (k, &xy) in raw.iter().enumerate() {
         let field = format!("starts.points[{k}]");
@@ -493,7 +593,7 @@ fn start_points(
         let q = lattice.position(c);
         let clear = area.contains(q)
             && area.boundary_distance(q) >= params.r_safe
-            && obstacles.iter().all(|o| o.distance(q) >= params.r_safe);
+            && near.at(q).all(|j| obstacles[j].distance(q) >= params.r_safe);
         if !clear {
             return Err(ctx.err(
                 field,
@@ -505,13 +605,12 @@ fn start_points(
                 ),
             ));
         }
-        if let Some(j) = seen.iter().position(|&d| d == c) {
+        if let Some(j) = seen.insert(c, k) {
             return Err(ctx.err(
                 field,
                 format!("snaps to vertex {} like starts.points[{j}]: two robots on one vertex", fmt_xy(q)),
             ));
         }
-        seen.push(c);
         out.push(p);
     }
     Ok(out)
