@@ -110,7 +110,7 @@ fn load(path: &PathBuf) -> Result<Loaded, String> {
         ));
     }
     if run.robots == 0 || run.robots > ipc::MAX_ROBOTS {
-        return Err(format!("robots must be in 1..={}, got {}", ipc::MAX_ROBOTS, run.robots));
+        return Err(format!("robots must be 1 to {}, got {}", ipc::MAX_ROBOTS, run.robots));
     }
     gridswarm::sim::schedule::check(&run.config.faults, run.robots)?;
     let world = scenario.world();

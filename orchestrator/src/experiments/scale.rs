@@ -366,7 +366,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         )));
     }
     if let Some(&n) = opts.robots.iter().find(|&&n| n == 0 || n > gridswarm::ipc::MAX_ROBOTS) {
-        return Err(Error::Usage(format!("--robots must be in 1..={}, got {n}", gridswarm::ipc::MAX_ROBOTS)));
+        return Err(Error::Usage(format!("--robots must be 1 to {}, got {n}", gridswarm::ipc::MAX_ROBOTS)));
     }
     crate::run::admit(opts.robots.iter().copied().max().unwrap_or(1))?;
     // Every scenario loaded and every count placed before the first run.

@@ -184,7 +184,7 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
     }
     let robots = opts.robots.unwrap_or(scenario.robots);
     if robots == 0 || robots > ipc::MAX_ROBOTS {
-        let msg = format!("robots must be in 1..={}, got {robots}", ipc::MAX_ROBOTS);
+        let msg = format!("robots must be 1 to {}, got {robots}", ipc::MAX_ROBOTS);
         // Out of range on the command line is a usage error; in a scenario file, the file's.
         return Err(if opts.robots.is_some() { Error::Usage(msg) } else { Error::Scenario(msg) });
     }
