@@ -341,14 +341,11 @@ impl Map {
     /// `id` was heard alive in `round`: any failure declared of it up to
     /// that round no longer counts.
     pub fn revive(&mut self, id: RobotId, round: u32) {
-        match self.alive.binary_search_by_key(&id, |a| a.0) {
-            Ok(k) => self.alive[k].1 = self.alive[k].1.max(round),
-            Err(k) => self.alive.insert(k, (id, round)),
-        }
+        latest(&mut self.alive, id, round);
     }
 
     fn alive_round(&self, id: RobotId) -> Option<u32> {
-        self.alive.binary_search_by_key(&id, |a| a.0).ok().map(|k| self.alive[k].1)
+        round_of(&self.alive, id)
     }
 
     /// The failure of `id` that counts now, if any.
@@ -431,15 +428,16 @@ impl Map {
     }
 }
 
-/// `list[key] := max(list[key], round)`, `list` sorted by key.
-fn latest(list: &mut Vec<(u32, u32)>, key: u32, round: u32) {
+/// `list[key] := max(list[key], round)`, `list` sorted by key: rejoins by
+/// robot, bodies found and freed by vertex.
+fn latest<K: Ord + Copy>(list: &mut Vec<(K, u32)>, key: K, round: u32) {
     match list.binary_search_by_key(&key, |e| e.0) {
         Ok(k) => list[k].1 = list[k].1.max(round),
         Err(k) => list.insert(k, (key, round)),
     }
 }
 
-fn round_of(list: &[(u32, u32)], key: u32) -> Option<u32> {
+fn round_of<K: Ord + Copy>(list: &[(K, u32)], key: K) -> Option<u32> {
     list.binary_search_by_key(&key, |e| e.0).ok().map(|k| list[k].1)
 }
 

@@ -469,12 +469,6 @@ impl<'g> Robot<'g> {
         self.parked.retain(|p| p.1 != v);
     }
 
-    /// Vertices blocked for good as far as this robot knows: failed
-    /// robots' and silent bodies'.
-    fn blocked(&self) -> impl Iterator<Item = VertexId> + '_ {
-        self.map.failed_now().map(|(_, at)| at).chain(self.map.bodies_now())
-    }
-
     /// `blocked_now` := the vertices blocked for good: silent bodies',
     /// failed robots' whose body was seen, with `unseen` the other failed
     /// robots' too, and with `parked` halted neighbours' (they block moves
@@ -573,6 +567,8 @@ impl<'g> Robot<'g> {
         let grid = self.grid;
         let here = grid.position(self.pos);
         let two_safe = 2.0 * self.cfg.r_safe;
+        // Failed robots (seen or not: they may stand there) and bodies.
+        self.collect_blocked(true, false);
         let mut cands = [NONE; MAX_DEGREE];
         let mut nc = 0;
         'slot: for (d, &n) in grid.neighbors(self.pos)[..grid.degree()].iter().enumerate() {
@@ -586,7 +582,7 @@ impl<'g> Robot<'g> {
                 continue;
             }
             let there = grid.position(n);
-            for at in self.blocked() {
+            for &at in &self.blocked_now {
                 let p = grid.position(at);
                 if at == n || swept_min_distance(here, there, p, p) < two_safe {
                     continue 'slot;
