@@ -52,7 +52,7 @@ use gridswarm::grid::Grid;
 use gridswarm::ipc::{self, names};
 use gridswarm::net::{NetConfig, ZenohAgent};
 use gridswarm::outcome::RunConfig;
-use gridswarm::params::Situation;
+use gridswarm::params::{Situation, SlotRule};
 use gridswarm::peer::Peer;
 use gridswarm::policy::Policy;
 use gridswarm::protocol::{self, Frame, Limits};
@@ -113,6 +113,9 @@ struct Args {
     /// Without --setup: overrides the scenario's retries.
     #[arg(long)]
     retries: Option<u32>,
+    /// Without --setup: overrides the scenario's slot rule (adaptive or fixed).
+    #[arg(long, value_parser = parse_slot)]
+    slot: Option<SlotRule>,
     /// Quiet time after which the world's liveness is checked, ms.
     #[arg(long, default_value_t = 500)]
     world_timeout_ms: u64,
@@ -438,6 +441,17 @@ impl AgentTransport for Iceoryx2 {
     }
 }
 
+/// The run's overrides of the scenario's parameters (`--retries`, `--slot`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Overrides {
+    pub retries: Option<u32>,
+    pub slot: Option<SlotRule>,
+}
+
+fn parse_slot(s: &str) -> Result<SlotRule, String> {
+    SlotRule::from_name(s).ok_or_else(|| format!("`{s}`: one of {}", SlotRule::NAMES.join(", ")))
+}
+
 /// The setup the orchestrator writes for robot `robot` of a run of
 /// `scenario` (its `RobotSetup::new` of the scenario's world, after the
 /// run's situation and retries): what an agent started by hand holds.
@@ -447,9 +461,9 @@ pub fn derived_setup(
     seed: u64,
     algorithm: &str,
     situation: Option<u8>,
-    retries: Option<u32>,
+    overrides: Overrides,
 ) -> Result<RobotSetup, String> {
-    derived("", scenario, robot, seed, algorithm, situation, retries).map(|(setup, _)| setup)
+    derived("", scenario, robot, seed, algorithm, situation, overrides).map(|(setup, _)| setup)
 }
 
 /// [`derived_setup`], and the agreement of run `key` it presents.
@@ -460,7 +474,7 @@ pub fn derived(
     seed: u64,
     algorithm: &str,
     situation: Option<u8>,
-    retries: Option<u32>,
+    overrides: Overrides,
 ) -> Result<(RobotSetup, Agreement), String> {
     let policy: Policy = algorithm.parse()?;
     registry::runnable(policy)?;
@@ -475,8 +489,11 @@ pub fn derived(
         Some(n) => return Err(format!("--situation {n}: it is 1 or 2")),
         None => {}
     }
-    if let Some(r) = retries {
+    if let Some(r) = overrides.retries {
         sc.params.retries = r;
+    }
+    if let Some(s) = overrides.slot {
+        sc.params.slot = s;
     }
     let world = sc.world();
     let agreement = Agreement::new(key, id, seed, policy, sc.situation, world.params);
@@ -489,7 +506,8 @@ fn setup_of(args: &Args) -> Result<(RobotSetup, Agreement), String> {
         (Some(path), _, _, _) => read_setup(path),
         (None, Some(sc), Some(robot), Some(seed)) => {
             let key = args.prefix.as_deref().unwrap_or_default();
-            derived(key, sc, robot, seed, &args.algorithm, args.situation, args.retries)
+            let overrides = Overrides { retries: args.retries, slot: args.slot };
+            derived(key, sc, robot, seed, &args.algorithm, args.situation, overrides)
         }
         _ => Err("--setup, or --scenario with --robot and --seed, is needed".into()),
     }

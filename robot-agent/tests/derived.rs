@@ -5,10 +5,11 @@
 
 use std::process::Command;
 
-use gridswarm::params::Situation;
+use gridswarm::params::{Situation, SlotRule};
 use gridswarm::policy::Policy;
 use gridswarm::setup::RobotSetup;
 use gridswarm_orchestrator::run::{self, RunOptions};
+use robot_agent::Overrides;
 
 fn agent() -> Command {
     Command::new(env!("CARGO_BIN_EXE_robot-agent"))
@@ -17,13 +18,15 @@ fn agent() -> Command {
 #[test]
 fn a_derived_setup_is_the_one_the_orchestrator_writes() {
     let cases = [
-        ("paper", Policy::Repulsive, Situation::Two, None, 7),
-        ("paper", Policy::Sequential, Situation::One, Some(2), 12),
-        ("random:3", Policy::Escape, Situation::One, None, 0),
+        ("paper", Policy::Repulsive, Situation::Two, None, None, 7),
+        ("paper", Policy::Sequential, Situation::One, Some(2), None, 12),
+        ("random:3", Policy::Escape, Situation::One, None, Some(SlotRule::Fixed), 0),
     ];
-    for (scenario, policy, situation, retries, robot) in cases {
+    for (scenario, policy, situation, retries, slot, robot) in cases {
         let mut o = RunOptions::for_experiment(scenario.into(), policy, 13, 41, situation, 0, 100);
         o.retries = retries;
+        o.slot = slot;
+        let retries = Overrides { retries, slot };
         let plan = run::plan(&o).unwrap();
         let written = RobotSetup::new(&plan.world, &plan.cfg, robot);
         let sit = if situation == Situation::One { 1 } else { 2 };
@@ -34,10 +37,10 @@ fn a_derived_setup_is_the_one_the_orchestrator_writes() {
             robot_agent::derived("key", scenario, robot, 41, policy.name(), Some(sit), retries).unwrap();
         assert_eq!(agreement, plan.agreement("key"), "{scenario} {policy} robot {robot}");
     }
-    let err = robot_agent::derived_setup("paper", 0, 1, "lfp", None, None).unwrap_err();
+    let err = robot_agent::derived_setup("paper", 0, 1, "lfp", None, Overrides::default()).unwrap_err();
     assert!(err.contains("lfp"), "{err}");
-    assert!(robot_agent::derived_setup("nowhere", 0, 1, "repulsive", None, None).is_err());
-    assert!(robot_agent::derived_setup("paper", 0, 1, "repulsive", Some(3), None).is_err());
+    assert!(robot_agent::derived_setup("nowhere", 0, 1, "repulsive", None, Overrides::default()).is_err());
+    assert!(robot_agent::derived_setup("paper", 0, 1, "repulsive", Some(3), Overrides::default()).is_err());
 }
 
 #[test]

@@ -404,6 +404,9 @@ pub struct RunFile {
     /// Overrides the scenario's `params.retries`.
     #[serde(default)]
     pub retries: Option<u32>,
+    /// Overrides the scenario's `params.slot`.
+    #[serde(default)]
+    pub slot: Option<crate::params::SlotRule>,
     pub config: RunConfig,
 }
 

@@ -56,6 +56,45 @@ pub struct Params {
     /// costs a move time): see [`RuCollisions`].
     #[serde(default)]
     pub ru_collisions: RuCollisions,
+    /// What ends a slot: see [`SlotRule`].
+    #[serde(default)]
+    pub slot: SlotRule,
+}
+
+/// What ends a slot's decisions and starts its moves (issue 21, point 6).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SlotRule {
+    /// The idealization: the world closes a slot as soon as every robot
+    /// that is running and searching has given its motor command (or at a
+    /// hard limit), so a slot lasts as long as its slowest decision. It
+    /// needs a global view of who has commanded that real robots lack.
+    #[default]
+    Adaptive,
+    /// Real robots with synchronized clocks: every slot lasts the same
+    /// length, which each robot derives from its own parameters
+    /// (`peer::Timing::decision_time`, then one move time); a command not
+    /// given by the end of the decisions is no command, and the robot stays.
+    Fixed,
+}
+
+impl SlotRule {
+    pub const NAMES: [&'static str; 2] = ["adaptive", "fixed"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SlotRule::Adaptive => "adaptive",
+            SlotRule::Fixed => "fixed",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "adaptive" => Some(SlotRule::Adaptive),
+            "fixed" => Some(SlotRule::Fixed),
+            _ => None,
+        }
+    }
 }
 
 /// The reading of "one extra move time per collision" (issue 8, 1a).
@@ -133,6 +172,7 @@ impl Params {
             suspect_rounds: defaults::suspect_rounds(),
             choices_update_maps: defaults::choices_update_maps(),
             ru_collisions: RuCollisions::default(),
+            slot: SlotRule::default(),
         }
     }
 

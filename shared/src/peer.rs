@@ -41,7 +41,7 @@ use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId};
 use crate::map::{Map, RobotId};
-use crate::params::{Params, Situation};
+use crate::params::{Params, Situation, SlotRule};
 use crate::policy::Policy;
 use crate::protocol::Frame;
 use crate::robot::{Robot, RobotConfig, Sensing, Stop};
@@ -64,18 +64,37 @@ pub struct Timing {
     /// Transmissions of every frame: 1 + retries.
     pub copies: u8,
     pub suspect_rounds: u32,
+    /// Under [`SlotRule::Fixed`], how long after a slot's start its
+    /// decisions end ([`Timing::decision_time`]); `None` when the world
+    /// closes the slot ([`SlotRule::Adaptive`]).
+    pub decision: Option<Time>,
 }
 
 impl Timing {
     pub fn from_params(p: &Params) -> Self {
-        Timing {
+        let mut t = Timing {
             exchange: micros(p.t_exchange),
             hop: micros(p.t_hop),
             choice: micros(p.t_choice),
             wait: micros(p.t_wait),
             copies: (1 + p.retries).min(u8::MAX as u32) as u8,
             suspect_rounds: p.suspect_rounds.max(1),
+            decision: None,
+        };
+        if p.slot == SlotRule::Fixed {
+            t.decision = Some(t.decision_time());
         }
+        t
+    }
+
+    /// The length of a fixed slot's decisions, from the protocol's own
+    /// bounds: the widest exchange window a robot may choose, a wait for
+    /// higher-priority choices, the choice, a wait for acknowledgements,
+    /// and a hop a copy for the commit to reach followers. A robot whose
+    /// timeouts all run their course still gives its command in time; one
+    /// later than that (slow, thawed) stays.
+    pub fn decision_time(&self) -> Time {
+        self.exchange * (1 + MAX_WIDEN) + 2 * self.wait + self.choice + (self.copies as Time + 1) * self.hop
     }
 }
 
@@ -162,6 +181,9 @@ pub struct Peer<'g> {
     missed_any: bool,
     /// When this slot began, by the robot's clock.
     slot_start: Time,
+    /// When its decisions must be in: a fixed slot's end by its clock
+    /// (`Time::MAX` when the world closes the slot).
+    slot_end: Time,
     /// How much it widened its exchange window, for maps it heard late.
     widen: Time,
     /// When it sensed this slot (its first wake-up of the slot).
@@ -200,6 +222,7 @@ impl<'g> Peer<'g> {
             missed_any: false,
             sensed_at: 0,
             slot_start: 0,
+            slot_end: Time::MAX,
             widen: 0,
             late: false,
             cut_off: false,
@@ -346,6 +369,7 @@ impl<'g> Peer<'g> {
         // answers with a stay (`late`, set at the end of its exchange).
         let window_end = tick.start + self.cfg.timing.exchange + self.widen;
         self.slot_start = tick.start;
+        self.slot_end = self.cfg.timing.decision.map_or(Time::MAX, |d| tick.start + d);
         let map = robot.map_mut().send_copy(tick.round, self.spare.take());
         self.send(
             out,
@@ -663,13 +687,16 @@ impl<'g> Peer<'g> {
             self.choice_ready = now + timing.choice;
             if robot.config().policy == Policy::Ru {
                 // Particles: nobody waits for an RU robot, nobody acknowledges it.
-                out.motor = Some((Motor::Go(c), self.choice_ready));
+                let to = if self.choice_ready <= self.slot_end { c } else { robot.position() };
+                out.motor = Some((Motor::Go(to), self.choice_ready));
                 self.phase = Phase::Committed;
                 return;
             }
             let at = robot.position();
             let accounted = robot.accounted().to_vec();
-            self.ack_deadline = self.choice_ready + timing.wait;
+            // A fixed slot's moves start at its end: acknowledgements later
+            // than that are of no use.
+            self.ack_deadline = (self.choice_ready + timing.wait).min(self.slot_end);
             self.send(out, Frame::Choice { round, from: me, at, next: c, accounted }, self.choice_ready);
         }
         let robot = self.robot.as_ref().expect("started");
@@ -740,6 +767,14 @@ impl<'g> Peer<'g> {
         let robot = self.robot.as_ref().expect("started");
         let (pos, c) = (robot.position(), robot.choice().expect("chosen"));
         let when = now.max(self.choice_ready);
+        // Past a fixed slot's end the moves have begun without it: a
+        // command now would start a move in the next slot's exchange.
+        let moving = if moving && when > self.slot_end {
+            out.notes.push(Note::Unsure);
+            false
+        } else {
+            moving
+        };
         out.motor = Some((Motor::Go(if moving { c } else { pos }), when));
         if c != pos {
             self.send(out, Frame::Commit { round: self.round, from: self.id(), moving }, when);

@@ -15,6 +15,7 @@
 //! a = 1.0                   # r_c default to the equality case of their assumption
 //! r_safe = 0.30             # (Params::derived); t_rot, t_trans, t_choice in seconds
 //! ru_collisions = "back-off" # RU's collisions: back-off (default) | per-pair (RuCollisions)
+//! slot = "adaptive"         # what ends a slot: adaptive (default) | fixed (SlotRule)
 //!
 //! [area]                    # required: a simple polygon, corners in either order
 //! polygon = [[0, 0], [20, 0], [20, 16], [0, 16]]

@@ -14,11 +14,13 @@
 //!   clock never has to force a slot shut; checked without loss), and the search ends within
 //!   [`MAX_ROUNDS`] rounds except in rare cases the algorithms themselves
 //!   cannot end (see [`Violation::Endless`]), which the test counts;
-//! - every crash becomes known to each robot that waited on it.
+//! - every crash becomes known to each robot that waited on it;
+//! - under the fixed slot rule, no robot commands a move past a slot's end.
 //!
 //! Cases reach past the bounds the design states: frames later than the
 //! exchange window, loss mixed with crashes, robots slow by up to 10 s,
-//! teams of up to 60 on `cave` and random maps, every grid algorithm.
+//! teams of up to 60 on `cave` and random maps, every grid algorithm, and
+//! both slot rules (`SlotRule`; fixed in 30% of cases).
 //! A failing case prints a `gridswarm simulate` command line that replays
 //! it exactly.
 
@@ -28,7 +30,7 @@ use std::sync::{Arc, Mutex};
 use crate::engine;
 use crate::grid::VertexId;
 use crate::outcome::{RunConfig, RunResult};
-use crate::params::Situation;
+use crate::params::{Situation, SlotRule};
 use crate::policy::Policy;
 use crate::rng::{derive, mix};
 use crate::scenario::Scenario;
@@ -56,6 +58,8 @@ pub struct Case {
     pub number: u64,
     pub scenario: &'static str,
     pub robots: usize,
+    /// The slot rule (a parameter of the world, not of the run's config).
+    pub slot: SlotRule,
     pub config: RunConfig,
 }
 
@@ -81,7 +85,9 @@ pub fn case(seed: u64, index: u64) -> Case {
     cfg.measure_coverage = false;
     cfg.radio = radio(number);
     cfg.faults = faults(number, robots);
-    Case { number, scenario, robots, config: cfg }
+    // Both slot rules: the world's idealized barrier, and the robots' clocks.
+    let slot = if chance(number, 50, 0.3) { SlotRule::Fixed } else { SlotRule::Adaptive };
+    Case { number, scenario, robots, slot, config: cfg }
 }
 
 fn pick_scenario(mut k: u64) -> &'static str {
@@ -183,6 +189,9 @@ impl Case {
             c.situation.number(),
             c.max_rounds
         );
+        if self.slot == SlotRule::Fixed {
+            cmd += " --slot fixed";
+        }
         let r = &c.radio;
         if r.delay > 0 || r.jitter > 0 {
             cmd += &format!(" --delay {}:{}", r.delay as f64 / 1000.0, r.jitter as f64 / 1000.0);
@@ -236,6 +245,9 @@ pub fn check(case: &Case, r: &RunResult, suspect_rounds: u32) -> Result<(), Viol
     if p.forced_slots > 0 && case.config.radio.loss == 0.0 {
         return broken("forced slot", format!("{} slot(s) closed at their limit", p.forced_slots));
     }
+    if p.late_motors > 0 {
+        return broken("late motor", format!("{} move(s) commanded past a fixed slot's end", p.late_motors));
+    }
     for f in &p.failures {
         if !f.unaware.is_empty() {
             let why = format!(
@@ -257,27 +269,28 @@ pub fn check(case: &Case, r: &RunResult, suspect_rounds: u32) -> Result<(), Viol
 /// by every thread of a test.
 #[derive(Default)]
 pub struct Worlds {
-    built: Mutex<HashMap<&'static str, Arc<(Scenario, World)>>>,
+    built: Mutex<HashMap<(&'static str, SlotRule), Arc<(Scenario, World)>>>,
     starts: Mutex<HashMap<(&'static str, usize), Arc<Vec<VertexId>>>>,
 }
 
 impl Worlds {
-    /// The world of `scenario`, built on first use.
-    pub fn world(&self, scenario: &'static str) -> Arc<(Scenario, World)> {
-        if let Some(w) = self.built.lock().expect("not poisoned").get(scenario) {
+    /// The world of `scenario` under `slot`, built on first use.
+    pub fn world(&self, scenario: &'static str, slot: SlotRule) -> Arc<(Scenario, World)> {
+        if let Some(w) = self.built.lock().expect("not poisoned").get(&(scenario, slot)) {
             return w.clone();
         }
-        let sc = Scenario::load(scenario).unwrap_or_else(|e| panic!("{scenario}: {e}"));
+        let mut sc = Scenario::load(scenario).unwrap_or_else(|e| panic!("{scenario}: {e}"));
+        sc.params.slot = slot;
         let w = Arc::new({
             let world = sc.world();
             (sc, world)
         });
-        self.built.lock().expect("not poisoned").entry(scenario).or_insert(w).clone()
+        self.built.lock().expect("not poisoned").entry((scenario, slot)).or_insert(w).clone()
     }
 
     /// `case`'s world and its robots' start vertices.
     pub fn of(&self, case: &Case) -> (Arc<(Scenario, World)>, Arc<Vec<VertexId>>) {
-        let w = self.world(case.scenario);
+        let w = self.world(case.scenario, case.slot);
         let key = (case.scenario, case.robots);
         if let Some(s) = self.starts.lock().expect("not poisoned").get(&key) {
             return (w, s.clone());

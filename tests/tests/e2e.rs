@@ -134,6 +134,33 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
     assert_eq!(compared, 25);
 }
 
+/// Under the fixed slot rule the world closes every slot at the robots'
+/// clocks' time, commanded or not: both engines still make the same run,
+/// with faults too (a robot slow by 5 s misses its slots' ends).
+#[test]
+fn same_trajectories_as_simulate_under_the_fixed_slot() {
+    let _s = serial();
+    let dir = scratch("fixed-slot");
+    let mut cases: Vec<Vec<&str>> = ["repulsive", "sequential", "ru", "escape", "frontier"]
+        .iter()
+        .map(|&p| vec!["--algorithm", p, "--robots", "6", "--seed", "5", "--situation", "2"])
+        .collect();
+    cases.push(vec!["--robots", "9", "--seed", "4", "--kill", "3@4+0.3", "--slow", "2@2:5000"]);
+    cases.push(vec!["--algorithm", "escape", "--robots", "9", "--seed", "8", "--freeze", "5@2:6", "--loss", "0.05"]);
+    for (k, case) in cases.iter().enumerate() {
+        let args = [&["--scenario", "paper", "--slot", "fixed"][..], case].concat();
+        let tag = format!("fixed {args:?}");
+        let (d, s) = (dir.join(format!("run-{k}")), dir.join(format!("sim-{k}")));
+        let summary = run_into(&d, &args);
+        search(&[&["simulate", "--out", s.to_str().unwrap()][..], &args[..]].concat());
+        assert_same_run(&tag, &d, &s, &summary);
+        assert_same_agreement(&tag, &summary, &s);
+        assert_eq!(summary["params"]["slot"], "fixed", "{tag}");
+        assert_eq!(num(&summary["protocol"]["forced_slots"]), 0, "{tag}: a fixed slot is never forced");
+        assert_eq!(num(&summary["protocol"]["late_motors"]), 0, "{tag}: no robot commands past a slot's end");
+    }
+}
+
 /// Options of `gridswarm run` on the paper scenario, 13 robots.
 fn options(seed: u64, situation: Situation) -> RunOptions {
     let mut o = RunOptions::for_experiment("paper".into(), Policy::Repulsive, 13, seed, situation, 0, 100_000);

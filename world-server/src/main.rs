@@ -102,6 +102,9 @@ fn load(path: &PathBuf) -> Result<Loaded, String> {
     if let Some(r) = run.retries {
         scenario.params.retries = r;
     }
+    if let Some(s) = run.slot {
+        scenario.params.slot = s;
+    }
     scenario.situation = run.config.situation;
     if !run.config.policy.on_grid() {
         return Err(format!(

@@ -8,7 +8,7 @@
 //! usage error.
 
 use gridswarm::outcome::RunConfig;
-use gridswarm::params::{Params, Situation};
+use gridswarm::params::{Params, Situation, SlotRule};
 use gridswarm::policy::Policy;
 use gridswarm::sim::{schedule, Fault, Radio, Time};
 
@@ -59,6 +59,14 @@ pub struct FaultFlags {
     /// Probability that a delivery arrives twice.
     #[arg(long, value_name = "P", default_value_t = 0.0, value_parser = parse_probability)]
     pub dup: f64,
+    /// What ends a slot: `adaptive` (the world, once every robot has
+    /// commanded) or `fixed` (the robots' clocks) [default: the scenario's params.slot].
+    #[arg(long, value_name = "RULE", value_parser = parse_slot)]
+    pub slot: Option<SlotRule>,
+}
+
+fn parse_slot(s: &str) -> std::result::Result<SlotRule, String> {
+    SlotRule::from_name(s).ok_or_else(|| format!("`{s}`: one of {}", SlotRule::NAMES.join(", ")))
 }
 
 /// What the flags ask for, independent of clap.
@@ -71,6 +79,8 @@ pub struct FaultPlan {
     pub radio: Radio,
     /// Overrides the scenario's `params.retries`.
     pub retries: Option<u32>,
+    /// Overrides the scenario's `params.slot`.
+    pub slot: Option<SlotRule>,
 }
 
 impl FaultFlags {
@@ -84,6 +94,7 @@ impl FaultFlags {
             kill_random: self.kill_random,
             radio: Radio { loss: self.loss, delay, jitter, dup: self.dup },
             retries: self.retries,
+            slot: self.slot,
         }
     }
 }
@@ -91,7 +102,11 @@ impl FaultFlags {
 impl FaultPlan {
     /// Whether any fault or radio setting was asked for.
     pub fn is_empty(&self) -> bool {
-        self.faults.is_empty() && self.kill_random == 0 && self.radio.is_perfect() && self.retries.is_none()
+        self.faults.is_empty()
+            && self.kill_random == 0
+            && self.radio.is_perfect()
+            && self.retries.is_none()
+            && self.slot.is_none()
     }
 
     /// Checks the plan against a run of `policy` with `robots` robots.
@@ -99,7 +114,7 @@ impl FaultPlan {
         if !policy.on_grid() && !self.is_empty() {
             return Err(Error::Usage(format!(
                 "`{policy}` moves off the grid without the radio protocol: \
-                 --kill, --freeze, --kill-random, --slow, --loss, --retries, --delay and --dup apply to grid policies only"
+                 --kill, --freeze, --kill-random, --slow, --loss, --retries, --delay, --dup and --slot apply to grid policies only"
             )));
         }
         for (name, p) in [("--loss", self.radio.loss), ("--dup", self.radio.dup)] {
@@ -132,6 +147,9 @@ impl FaultPlan {
     pub fn apply_params(&self, params: &mut Params) {
         if let Some(r) = self.retries {
             params.retries = r;
+        }
+        if let Some(s) = self.slot {
+            params.slot = s;
         }
     }
 
@@ -172,6 +190,7 @@ impl FaultPlan {
             max_rounds: base.max_rounds,
             radio: self.radio,
             retries: self.retries,
+            slot: self.slot,
             faults: self.faults.clone(),
             kill_random: self.kill_random,
             out: base.out,

@@ -59,6 +59,7 @@ pub fn summary_fields(result: &RunResult) -> Value {
         "timeouts": p.timeouts,
         "unsure": p.unsure,
         "forced_slots": p.forced_slots,
+        "late_motors": p.late_motors,
         "failures": p.failures.iter().map(failure_value).collect::<Vec<_>>(),
     })
 }

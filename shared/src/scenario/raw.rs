@@ -10,7 +10,7 @@ use super::{gaps, Scenario, ScenarioError, Starts};
 use crate::geometry::{Circle, Point, Polygon, Shape};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
-use crate::params::{Params, RuCollisions, Situation};
+use crate::params::{Params, RuCollisions, Situation, SlotRule};
 
 /// A point as written: `[x, y]`, exactly two numbers. A plain `[f64; 2]`
 /// took the first two elements of any longer array (`[10, 0, "x"]`).
@@ -88,6 +88,7 @@ struct RawParams {
     suspect_rounds: Option<u32>,
     choices_update_maps: Option<bool>,
     ru_collisions: Option<String>,
+    slot: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -317,6 +318,11 @@ impl RawParams {
                     "params.ru_collisions",
                     format!("must be one of {}, got `{name}`", RuCollisions::NAMES.join(", ")),
                 )
+            })?;
+        }
+        if let Some(name) = self.slot {
+            p.slot = SlotRule::from_name(&name).ok_or_else(|| {
+                ctx.err("params.slot", format!("must be one of {}, got `{name}`", SlotRule::NAMES.join(", ")))
             })?;
         }
         Ok(p)

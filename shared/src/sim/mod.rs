@@ -17,8 +17,10 @@
 //!   after the frame's latency, lost, delayed or duplicated as the run's
 //!   radio settings say, every draw a pure function of the seed;
 //! - executes motor commands at the end of the slot, all at once, and
-//!   referees collisions; it closes a slot early once every robot that is
-//!   physically running and still searching has given its motor command;
+//!   referees collisions; under the adaptive slot rule it closes a slot
+//!   early once every robot that is physically running and still searching
+//!   has given its motor command, under the fixed rule at the slot's
+//!   fixed end, whoever has commanded ([`crate::params::SlotRule`]);
 //! - injects faults at given simulated times ([`Fault`]).
 //!
 //! Time is simulated, in microseconds. Robots that are woken at the same

@@ -81,6 +81,11 @@ pub struct ProtocolStats {
     /// Slots the clock had to close at their limit, robots without a motor
     /// command staying.
     pub forced_slots: u64,
+    /// Under the fixed slot rule, moves commanded for a time past the
+    /// slot's end, which the robot did not make: the protocol never gives
+    /// one (`crate::peer`), so a count here is a fault of the protocol.
+    #[serde(default)]
+    pub late_motors: u64,
     /// How the run ended: one of [`ENDINGS`].
     pub ended_by: String,
     /// Round and simulated time of the first stop that ends the search.

@@ -33,6 +33,7 @@ use gridswarm::ipc::{self, RunFile, RunReport};
 use gridswarm::nofile;
 use gridswarm::outcome::{RunConfig, RunResult};
 use gridswarm::params::Situation;
+use gridswarm::params::SlotRule;
 use gridswarm::policy::Policy;
 use gridswarm::scenario::Scenario;
 use gridswarm::sim::{self, schedule, Fault};
@@ -72,6 +73,8 @@ pub struct RunOptions {
     pub radio: sim::Radio,
     /// Overrides the scenario's `params.retries`.
     pub retries: Option<u32>,
+    /// Overrides the scenario's `params.slot`.
+    pub slot: Option<SlotRule>,
     /// Faults given explicitly (checked with [`schedule::check`]).
     pub faults: Vec<Fault>,
     /// Crash this many more robots at times drawn from the seed.
@@ -103,6 +106,7 @@ impl RunOptions {
             max_rounds,
             radio: sim::Radio::default(),
             retries: None,
+            slot: None,
             faults: Vec::new(),
             kill_random,
             out: None,
@@ -181,6 +185,9 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
     }
     if let Some(r) = opts.retries {
         scenario.params.retries = r;
+    }
+    if let Some(s) = opts.slot {
+        scenario.params.slot = s;
     }
     let robots = opts.robots.unwrap_or(scenario.robots);
     if robots == 0 || robots > ipc::MAX_ROBOTS {
@@ -266,6 +273,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         scenario: opts.scenario.clone(),
         robots: plan.robots,
         retries: opts.retries,
+        slot: opts.slot,
         config: plan.cfg.clone(),
     };
     files.write(&run_file, &plan.world, &plan.cfg, &plan.agreement(&prefix))?;

@@ -107,6 +107,10 @@ pub struct Kernel<'w, P> {
     exchange: Time,
     hop: Time,
     slot_limit: Time,
+    /// Under the fixed slot rule, when after its start a slot's decisions
+    /// end (the robots' clocks, [`crate::peer::Timing::decision_time`]):
+    /// the world closes it then, whoever has commanded.
+    fixed: Option<Time>,
     /// Something that can close the slot happened since the last check.
     may_close: bool,
     stats: ProtocolStats,
@@ -138,6 +142,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         // hops), with room for slow robots.
         let widest = exchange * (1 + crate::peer::MAX_WIDEN);
         let slot_limit = widest + 4 * wait + micros(p.t_choice) + 20 * micros(p.t_hop);
+        let fixed = crate::peer::Timing::from_params(p).decision;
         let bots = (0..n)
             .map(|_| Bot {
                 body: Body::Running,
@@ -177,6 +182,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             exchange,
             hop: micros(p.t_hop),
             slot_limit,
+            fixed,
             may_close: false,
             stats: ProtocolStats::default(),
             collisions: 0,
@@ -293,7 +299,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             }
             Ev::Limit { round } => {
                 if round == self.round && self.slot_open {
-                    self.close_slot(true);
+                    // A fixed slot ends here by rule; an adaptive one is forced.
+                    self.close_slot(self.fixed.is_none());
                 }
             }
         }
@@ -348,7 +355,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             }
         }
         let round = self.round;
-        self.push(self.now + self.slot_limit, Ev::Limit { round });
+        self.push(self.now + self.fixed.unwrap_or(self.slot_limit), Ev::Limit { round });
     }
 
     fn tick(&mut self, r: usize) -> Tick {
@@ -444,8 +451,14 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 // wake-up replaces): it searches again.
                 b.halted = false;
             }
+            // Under a fixed slot a move must start at the slot's end: a
+            // command timed later is no command (the robot stays).
+            let in_time = self.fixed.is_none_or(|d| t <= self.slot_start + d);
+            if !in_time && matches!(m, Motor::Go(v) if v != self.referee.position(r)) {
+                self.stats.late_motors += 1;
+            }
             let given = match m {
-                Motor::Go(v) if self.slot_open && b.motor.is_none() => {
+                Motor::Go(v) if self.slot_open && b.motor.is_none() && in_time => {
                     b.motor = Some(v);
                     true
                 }
@@ -516,7 +529,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
     }
 
     fn check_close(&mut self) {
-        if !std::mem::take(&mut self.may_close) {
+        // A fixed slot never looks at who has commanded: its limit closes it.
+        if !std::mem::take(&mut self.may_close) || self.fixed.is_some() {
             return;
         }
         if !self.slot_open || self.close_scheduled || self.bots.iter().any(Self::owes_motor) {
@@ -557,14 +571,21 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         self.stats.refused += report.refused as u64;
         self.collisions += report.collisions;
         let p = &self.world.params;
-        let mut dur = self.last_motor - self.slot_start;
-        if report.rotated {
-            dur += micros(p.t_rot);
-        }
-        if report.translated {
-            dur += micros(p.t_trans);
-        }
-        dur += micros(p.collision_penalty(report.collisions));
+        let dur = match self.fixed {
+            // The robots' clocks cannot know whether anybody moved, or
+            // collided: every slot leaves room for one move.
+            Some(d) => d + micros(p.t_rot) + micros(p.t_trans),
+            None => {
+                let mut dur = self.last_motor - self.slot_start;
+                if report.rotated {
+                    dur += micros(p.t_rot);
+                }
+                if report.translated {
+                    dur += micros(p.t_trans);
+                }
+                dur + micros(p.collision_penalty(report.collisions))
+            }
+        };
         let end = self.slot_start + dur;
         if self.trace && report.collisions > 0 {
             let g = &self.world.grid;
