@@ -68,6 +68,9 @@ pub struct Timing {
     /// decisions end ([`Timing::decision_time`]); `None` when the world
     /// closes the slot ([`SlotRule::Adaptive`]).
     pub decision: Option<Time>,
+    /// One move, rotation and translation: a fixed slot's decisions and
+    /// its move make its period.
+    pub moving: Time,
 }
 
 impl Timing {
@@ -80,6 +83,7 @@ impl Timing {
             copies: (1 + p.retries).min(u8::MAX as u32) as u8,
             suspect_rounds: p.suspect_rounds.max(1),
             decision: None,
+            moving: micros(p.t_rot) + micros(p.t_trans),
         };
         if p.slot == SlotRule::Fixed {
             t.decision = Some(t.decision_time());
@@ -93,6 +97,14 @@ impl Timing {
     /// and a hop a copy for the commit to reach followers. A robot whose
     /// timeouts all run their course still gives its command in time; one
     /// later than that (slow, thawed) stays.
+    /// Under the fixed rule, which slot its clock is in at `now`, and when
+    /// that slot began: slot `k` starts at `k` periods.
+    pub fn slot_at(&self, now: Time) -> Option<(u32, Time)> {
+        let period = self.decision? + self.moving;
+        let k = now / period;
+        Some((k.min(u32::MAX as Time) as u32, k * period))
+    }
+
     pub fn decision_time(&self) -> Time {
         self.exchange * (1 + MAX_WIDEN) + 2 * self.wait + self.choice + (self.copies as Time + 1) * self.hop
     }
@@ -263,14 +275,17 @@ impl<'g> Peer<'g> {
         out.clear();
         match tick {
             Some(t) => {
+                // Under the fixed rule the robot's own clock says which
+                // slot this is; the world's idealized barrier says so otherwise.
+                let (round, start) = self.cfg.timing.slot_at(now).unwrap_or((t.round, t.start));
                 // Frames of the slot that ended (heard after this robot
                 // committed) first: they say where its neighbours went.
                 let frames = frames.into_iter();
-                for (from, f) in frames.clone().filter(|(_, f)| f.round() < t.round) {
+                for (from, f) in frames.clone().filter(|(_, f)| f.round() < round) {
                     self.on_frame(now, from, f, out);
                 }
-                self.start_slot(now, t, out);
-                for (from, f) in frames.filter(|(_, f)| f.round() >= t.round) {
+                self.start_slot(now, t, (round, start), out);
+                for (from, f) in frames.filter(|(_, f)| f.round() >= round) {
                     self.on_frame(now, from, f, out);
                 }
             }
@@ -338,22 +353,23 @@ impl<'g> Peer<'g> {
         &mut self.heard[k]
     }
 
-    fn start_slot(&mut self, now: Time, tick: &Tick, out: &mut Output<Frame>) {
-        if self.phase != Phase::Idle && tick.round <= self.round {
+    /// Slot `round`, started at `start`, with the readings of `tick`.
+    fn start_slot(&mut self, now: Time, tick: &Tick, (round, start): (u32, Time), out: &mut Output<Frame>) {
+        if self.phase != Phase::Idle && round <= self.round {
             return;
         }
         let (grid, rcfg) = (self.grid, self.cfg.robot);
         let robot = self.robot.get_or_insert_with(|| Robot::new(grid, rcfg, tick.at));
         robot.moved(tick.at);
-        let consecutive = self.phase != Phase::Idle && tick.round == self.round + 1;
+        let consecutive = self.phase != Phase::Idle && round == self.round + 1;
         self.expect(tick.at, consecutive);
-        self.round = tick.round;
+        self.round = round;
         self.sensed_at = now;
         self.heard.clear();
         self.acks.clear();
         self.refusals.clear();
         let robot = self.robot.as_mut().expect("made above");
-        robot.sense(tick.round, &Sensing { open: tick.open, occupied: tick.occupied, targets: &tick.targets });
+        robot.sense(round, &Sensing { open: tick.open, occupied: tick.occupied, targets: &tick.targets });
         let me = robot.id();
         let mut halted = self.phase == Phase::Halted;
         if halted && self.cut_off && !self.stop_known && robot.stop_rule() != Some(Stop::CutOff) {
@@ -367,13 +383,13 @@ impl<'g> Peer<'g> {
         // Woken after the exchange (frozen, or slow): it still sends its map
         // (those that hear it wait for its answer like any other's), and
         // answers with a stay (`late`, set at the end of its exchange).
-        let window_end = tick.start + self.cfg.timing.exchange + self.widen;
-        self.slot_start = tick.start;
-        self.slot_end = self.cfg.timing.decision.map_or(Time::MAX, |d| tick.start + d);
-        let map = robot.map_mut().send_copy(tick.round, self.spare.take());
+        let window_end = start + self.cfg.timing.exchange + self.widen;
+        self.slot_start = start;
+        self.slot_end = self.cfg.timing.decision.map_or(Time::MAX, |d| start + d);
+        let map = robot.map_mut().send_copy(round, self.spare.take());
         self.send(
             out,
-            Frame::Map { round: tick.round, from: me, at: tick.at, halted, stop: self.stop_known, map },
+            Frame::Map { round, from: me, at: tick.at, halted, stop: self.stop_known, map },
             now,
         );
         if self.cfg.robot.situation == Situation::One {
@@ -382,7 +398,7 @@ impl<'g> Peer<'g> {
                 for &t in &new {
                     self.flooded.set_growing(t as usize);
                 }
-                self.send(out, Frame::Flood { round: tick.round, from: me, targets: new, stop: false }, now);
+                self.send(out, Frame::Flood { round, from: me, targets: new, stop: false }, now);
             }
         }
         if !halted {

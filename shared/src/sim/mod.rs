@@ -60,8 +60,10 @@ pub fn seconds(t: Time) -> f64 {
 /// A robot's sensor readings at the start of a slot, and the slot it is.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Tick {
+    /// The slot, and when it started: the world's count under the
+    /// adaptive slot rule; under the fixed rule a robot reads both off its
+    /// own clock (`peer::Timing::slot_at`) and these only agree with it.
     pub round: u32,
-    /// When the slot started (the synchronized clock).
     pub start: Time,
     /// Where the robot stands (odometry).
     pub at: VertexId,
