@@ -19,9 +19,11 @@ use crate::scenario::Scenario;
 
 /// The version of the world-agent messages ([`crate::wire`]). Version 1
 /// was the hello of a robot number and a process id alone; version 2
-/// added the agreement and the world's verdict. A hello starts with its
+/// added the agreement and the world's verdict; version 3 the slot rule in
+/// the parameters and a map's stop in its header (the controller's
+/// receiver reads it). A hello starts with its
 /// version, so that a later world can read it whatever follows.
-pub const PROTOCOL_VERSION: u32 = 2;
+pub const PROTOCOL_VERSION: u32 = 3;
 
 /// A scenario as the processes of a run name it: its `name`, and the
 /// SHA3-256 of its canonical text ([`Scenario::to_toml`], before the run's

@@ -387,11 +387,7 @@ impl<'g> Peer<'g> {
         self.slot_start = start;
         self.slot_end = self.cfg.timing.decision.map_or(Time::MAX, |d| start + d);
         let map = robot.map_mut().send_copy(round, self.spare.take());
-        self.send(
-            out,
-            Frame::Map { round, from: me, at: tick.at, halted, stop: self.stop_known, map },
-            now,
-        );
+        self.send(out, Frame::Map { round, from: me, at: tick.at, halted, stop: self.stop_known, map }, now);
         if self.cfg.robot.situation == Situation::One {
             let new: Vec<u32> = tick.targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();
             if !new.is_empty() {

@@ -65,7 +65,7 @@ impl Frame {
     /// `t < 63`; bit 63 for a stop or any other target), 0 otherwise.
     pub fn header(&self) -> Header {
         let (kind, tag) = match self {
-            Frame::Map { .. } => (KIND_MAP, 0),
+            Frame::Map { stop, .. } => (KIND_MAP, if *stop { MAP_STOP } else { 0 }),
             Frame::Choice { .. } => (KIND_CHOICE, 0),
             Frame::Ack { acked, refused, .. } => {
                 (KIND_ACK, acked.iter().chain(refused).fold(0, |t, &r| t | Listen::bit(r)))
@@ -100,6 +100,9 @@ pub const KIND_FLOOD: u8 = 4;
 
 /// A flood's tag bit for a stop, or a target of 63 or more.
 pub const FLOOD_OTHER: u64 = 1 << 63;
+/// A map's tag bit for the stop it carries (maps are never held by a
+/// receive filter: the bit is for the controller's receiver).
+pub const MAP_STOP: u64 = 1;
 
 /// The header at the start of an encoded frame, read without decoding the
 /// frame after it; `None` if it is not there.
@@ -107,15 +110,38 @@ pub fn header_of(bytes: &[u8]) -> Option<Header> {
     postcard::take_from_bytes::<Header>(bytes).ok().map(|(h, _)| h)
 }
 
+impl Frame {
+    /// Whether it carries the step-8 stop that ends the search.
+    pub fn carries_stop(&self) -> bool {
+        matches!(self, Frame::Map { stop: true, .. } | Frame::Flood { stop: true, .. })
+    }
+}
+
 impl Framed for Rc<Frame> {
     fn header(&self) -> Option<Header> {
         Some(Frame::header(self))
+    }
+
+    fn carries_stop(&self) -> bool {
+        Frame::carries_stop(self)
     }
 }
 
 impl Framed for Rc<[u8]> {
     fn header(&self) -> Option<Header> {
         header_of(self)
+    }
+
+    /// A map says so in its header; a flood whose header may hold a stop
+    /// is decoded (floods are small). Bytes that do not decode carry none.
+    fn carries_stop(&self) -> bool {
+        match header_of(self) {
+            Some(h) if h.kind == KIND_MAP => h.tag & MAP_STOP != 0,
+            Some(h) if h.kind == KIND_FLOOD && h.tag & FLOOD_OTHER != 0 => postcard::take_from_bytes::<Header>(self)
+                .and_then(|(_, rest)| postcard::from_bytes::<Frame>(rest))
+                .is_ok_and(|f| f.carries_stop()),
+            _ => false,
+        }
     }
 }
 
@@ -258,6 +284,23 @@ mod tests {
         assert_eq!(f.header(), Header { kind: KIND_FLOOD, round: 70_000, tag: 1 << 2 | FLOOD_OTHER });
         assert_eq!(header_of(&[]), None);
         assert_eq!(header_of(&[2, 1]), None, "no tag");
+    }
+
+    #[test]
+    fn the_controller_reads_the_stop_from_frames_and_from_their_bytes() {
+        let stop_map = Frame::Map { round: 4, from: 2, at: 9, halted: true, stop: true, map: a_map() };
+        let map = Frame::Map { round: 4, from: 2, at: 9, halted: true, stop: false, map: a_map() };
+        let stop_flood = Frame::Flood { round: 3, from: 1, targets: vec![], stop: true };
+        // Its header's tag bit 63 says "a stop or a target of 63 or more".
+        let far_target = Frame::Flood { round: 3, from: 1, targets: vec![70], stop: false };
+        let choice = Frame::Choice { round: 1, from: 1, at: 2, next: 3, accounted: vec![] };
+        for (f, stop) in [(stop_map, true), (map, false), (stop_flood, true), (far_target, false), (choice, false)] {
+            let bytes: Rc<[u8]> = encode(&f).into();
+            assert_eq!(Framed::carries_stop(&Rc::new(f.clone())), stop, "{f:?}");
+            assert_eq!(bytes.carries_stop(), stop, "{f:?} as bytes");
+        }
+        let garbage: Rc<[u8]> = vec![4, 3, 0x80, 0x80, 0x80].into();
+        assert!(!garbage.carries_stop());
     }
 
     #[test]

@@ -40,7 +40,7 @@ fn thirteen_robots_complete_a_search() {
     );
     assert_eq!(
         (&a["protocol"], &a["algorithm"], &a["situation"]),
-        (&serde_json::json!(2), &v["algorithm"], &serde_json::json!(1))
+        (&serde_json::json!(gridswarm::agreement::PROTOCOL_VERSION), &v["algorithm"], &serde_json::json!(1))
     );
     assert_eq!(a["scenario"]["sha3_256"].as_str().map(str::len), Some(64), "{a}");
     assert_eq!(a["params"]["retries"], v["retries"]);

@@ -184,7 +184,18 @@ pub struct Header {
 /// A frame as the radio carries it: opaque, but with a header.
 pub trait Framed {
     fn header(&self) -> Option<Header>;
+
+    /// Whether the frame carries the stop that ends the search (step 8),
+    /// as the human controller's receiver reads it: the world never
+    /// looks (`kernel`'s controller does, [`CONTROLLER`]).
+    fn carries_stop(&self) -> bool;
 }
+
+/// The human controller's receiver as a node of the radio medium (step 8):
+/// it hears the whole area (a base station), each frame on its own link
+/// with the run's loss, delay and jitter, and reads nothing but whether a
+/// frame carries the stop. Its number on the medium's links.
+pub const CONTROLLER: usize = u32::MAX as usize;
 
 /// A robot's receive filter, its own setting (as a radio's address filter,
 /// or a sleeping processor whose radio buffers frames): whether a frame

@@ -59,6 +59,8 @@ enum Ev<P> {
     Limit {
         round: u32,
     },
+    /// A frame carrying the stop reaches the human controller.
+    Heard,
 }
 
 struct Bot<P> {
@@ -102,6 +104,10 @@ pub struct Kernel<'w, P> {
     /// The stop that ended the search came from a robot that knew targets
     /// were left unfound ([`Note::Stopped`]'s `exhausted`).
     stop_exhausted: bool,
+    /// The human controller heard a stop (step 8): the search is over.
+    stop_heard: bool,
+    /// Frames carrying a stop on their way to the controller.
+    stops_in_flight: u32,
     /// Slots in a row closed with no robot searching ([`Kernel::quiet_enough`]).
     quiet: u32,
     exchange: Time,
@@ -178,6 +184,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             last_motor: 0,
             ended: None,
             stop_exhausted: false,
+            stop_heard: false,
+            stops_in_flight: 0,
             quiet: 0,
             exchange,
             hop: micros(p.t_hop),
@@ -295,6 +303,15 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 if round == self.round {
                     self.close_scheduled = false;
                     self.may_close = true;
+                }
+            }
+            Ev::Heard => {
+                self.stops_in_flight -= 1;
+                self.stop_heard = true;
+                if !self.slot_open {
+                    // Between slots (the moves): the record ends with the
+                    // slot that just closed.
+                    self.ended = Some("stop");
                 }
             }
             Ev::Limit { round } => {
@@ -493,6 +510,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         let seq = self.bots[r].tx_seq;
         self.bots[r].tx_seq += 1;
         let from = r as RobotId;
+        if !self.stop_heard && payload.carries_stop() {
+            self.to_controller(r, seq, ready, copies);
+        }
         if self.medium.radio().is_perfect() {
             // Every receiver hears it one hop later: one event for all.
             let medium = &self.medium;
@@ -520,6 +540,20 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 self.stats.duplicated += 1;
                 self.push(at, Ev::Deliver { to, d: Delivery { from, at, payload: payload.clone() } });
             }
+        }
+    }
+
+    /// The controller's receiver hears transmission `seq` of robot `r`,
+    /// if its link lets it through.
+    fn to_controller(&mut self, r: usize, seq: u64, ready: Time, copies: u8) {
+        let at = if self.medium.radio().is_perfect() {
+            Some(ready + self.hop)
+        } else {
+            self.medium.fate(r, seq, super::CONTROLLER, ready, copies).arrival
+        };
+        if let Some(at) = at {
+            self.stops_in_flight += 1;
+            self.push(at, Ev::Heard);
         }
     }
 
@@ -630,15 +664,16 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         self.robot_rounds += searching;
         self.round += 1;
         self.record_poses();
-        if self.stats.stop_round.is_some() {
-            // Step 8: the stop reaches the human controller, and the record
+        if self.stop_heard {
+            // Step 8: the stop reached the human controller, and the record
             // of the search ends with this slot. No robot is told anything:
             // those the flood reached this slot have stopped, the others
             // would learn it from the robots they meet.
             self.ended = Some("stop");
         } else if self.round >= self.cfg.max_rounds && searching_left(&self.bots) {
             self.ended = Some("max_rounds");
-        } else if !searching_left(&self.bots) && !self.thaw_ahead() && self.quiet_enough() {
+        } else if !searching_left(&self.bots) && !self.thaw_ahead() && self.stops_in_flight == 0 && self.quiet_enough()
+        {
             self.ended =
                 Some(if self.bots.iter().any(|b| b.halted && b.body != Body::Dead) { "cut_off" } else { "no_robots" });
         } else if self.round >= self.cfg.max_rounds {

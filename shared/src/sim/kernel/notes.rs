@@ -36,6 +36,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 }
             }
             Note::Unsure => st.unsure += 1,
+            // For the record only: the search ends when the controller
+            // hears the stop (`Kernel::to_controller`), not on this note.
             Note::Stopped { ends_search, relayed, exhausted } => {
                 if ends_search && !relayed && st.stop_round.is_none() {
                     st.stop_round = Some(self.round);
