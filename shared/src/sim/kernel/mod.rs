@@ -59,8 +59,10 @@ enum Ev<P> {
     Limit {
         round: u32,
     },
-    /// A frame carrying the stop reaches the human controller.
-    Heard,
+    /// A frame carrying the stop, sent in slot `round`, reaches the human controller.
+    Heard {
+        round: u32,
+    },
 }
 
 struct Bot<P> {
@@ -305,12 +307,13 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                     self.may_close = true;
                 }
             }
-            Ev::Heard => {
+            Ev::Heard { round } => {
                 self.stops_in_flight -= 1;
                 self.stop_heard = true;
-                if !self.slot_open {
-                    // Between slots (the moves): the record ends with the
-                    // slot that just closed.
+                if !self.slot_open || round < self.round {
+                    // A stop of a slot that has closed (heard during the
+                    // moves, or in a slot that began at once because
+                    // nobody moved): the record ends with the closed slots.
                     self.ended = Some("stop");
                 }
             }
@@ -511,7 +514,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         self.bots[r].tx_seq += 1;
         let from = r as RobotId;
         if !self.stop_heard && payload.carries_stop() {
-            self.to_controller(r, seq, ready, copies);
+            let round = payload.header().map_or(self.round, |h| h.round);
+            self.to_controller(r, seq, round, ready, copies);
         }
         if self.medium.radio().is_perfect() {
             // Every receiver hears it one hop later: one event for all.
@@ -545,7 +549,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
 
     /// The controller's receiver hears transmission `seq` of robot `r`,
     /// if its link lets it through.
-    fn to_controller(&mut self, r: usize, seq: u64, ready: Time, copies: u8) {
+    fn to_controller(&mut self, r: usize, seq: u64, round: u32, ready: Time, copies: u8) {
         let at = if self.medium.radio().is_perfect() {
             Some(ready + self.hop)
         } else {
@@ -553,7 +557,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         };
         if let Some(at) = at {
             self.stops_in_flight += 1;
-            self.push(at, Ev::Heard);
+            self.push(at, Ev::Heard { round });
         }
     }
 
