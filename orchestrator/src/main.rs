@@ -175,6 +175,10 @@ enum Command {
         #[arg(default_value = "paper")]
         scenario: String,
     },
+    /// Make the certificates of a zenoh run across machines (mutual TLS):
+    /// an authority, the world's, one per robot (README: "Running on
+    /// several machines").
+    Credentials(gridswarm_orchestrator::cli::credentials::CredentialsArgs),
 }
 
 /// The protocol experiments (`gridswarm experiment KIND`).
@@ -475,6 +479,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             emit(&text);
             return Ok(finished(complete));
         }
+        Command::Credentials(args) => emit(&gridswarm_orchestrator::cli::credentials::run(&args)?),
         Command::Check { scenario } => {
             let outcome = check::check(&scenario)?;
             emit(&outcome.text);
