@@ -26,7 +26,8 @@ pub enum Transport {
     /// Shared memory between processes of one machine.
     #[default]
     Iceoryx2,
-    /// zenoh over TCP: processes on any hosts that reach each other.
+    /// zenoh over mutual TLS (or, `--insecure`, plain TCP): processes on
+    /// any hosts that reach each other.
     Zenoh,
 }
 
