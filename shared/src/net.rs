@@ -210,7 +210,7 @@ mod tests {
 
     #[test]
     fn keys_root_the_run() {
-        assert!(NetConfig::new("a/**").root().is_err_and(|e| e.contains("not a run key")));
+        assert!(NetConfig::new("a/**", Security::Plain).root().is_err_and(|e| e.contains("not a run key")));
         assert_eq!(NetConfig::new("k", Security::Plain).root().unwrap(), "gridswarm/k");
     }
 
@@ -227,5 +227,37 @@ mod tests {
         assert!(n.zenoh(Holder::Robot(0), 1).is_err());
         n.connect = vec!["nonsense".into()];
         assert!(n.zenoh(Holder::Robot(0), 1).is_err(), "zenoh checks the endpoint's syntax");
+    }
+
+    #[test]
+    fn tls_names_the_holder_s_files_and_the_world_denies_all_but_each_robot_s_own_keys() {
+        let dir = std::env::temp_dir().join(format!("gs-net-tls-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir(&dir).unwrap();
+        let creds = Credentials::new(&dir);
+        for f in [creds.ca(), creds.of(Holder::World).0, creds.of(Holder::Robot(2)).0] {
+            std::fs::write(f, "x").unwrap();
+        }
+        for k in [creds.of(Holder::World).1, creds.of(Holder::Robot(2)).1] {
+            use std::os::unix::fs::OpenOptionsExt;
+            std::fs::OpenOptions::new().write(true).create(true).mode(0o600).open(k).unwrap();
+        }
+        let mut n = NetConfig::new("k", Security::Tls(creds));
+        n.listen = vec!["tls/127.0.0.1:7447".into()];
+        let robot = n.zenoh(Holder::Robot(2), 0).unwrap();
+        let get = |c: &zenoh::Config, k: &str| c.get_json(k).unwrap();
+        assert!(get(&robot, "transport/link/tls/connect_certificate").contains("robot-2.pem"));
+        assert_eq!(get(&robot, "transport/link/tls/enable_mtls"), "true");
+        assert_eq!(get(&robot, "access_control/enabled"), "false", "a robot is no router");
+        let world = n.zenoh(Holder::World, 3).unwrap();
+        assert!(get(&world, "transport/link/tls/listen_private_key").contains("world.key"));
+        assert_eq!(get(&world, "access_control/default_permission"), "\"deny\"");
+        let acl = get(&world, "access_control");
+        for allowed in ["gridswarm/k/out/2", "gridswarm/k/alive/0", "gridswarm/k/in/1", "robot-2"] {
+            assert!(acl.contains(allowed), "{allowed} in {acl}");
+        }
+        assert!(!acl.contains("gridswarm/k/**") && !acl.contains("out/3"), "{acl}");
+        assert!(n.zenoh(Holder::Robot(1), 0).unwrap_err().contains("robot 1's"), "robot 1 has no files");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
