@@ -175,6 +175,10 @@ enum Command {
         #[arg(default_value = "paper")]
         scenario: String,
     },
+    /// Make the certificates of a zenoh run across machines (mutual TLS):
+    /// an authority, the world's, one per robot (README: "Running on
+    /// several machines").
+    Credentials(gridswarm_orchestrator::cli::credentials::CredentialsArgs),
 }
 
 /// The protocol experiments (`gridswarm experiment KIND`).
@@ -260,7 +264,7 @@ enum ExperimentKind {
         /// Output directory (created if missing).
         #[arg(long, default_value = scale::DEFAULT_OUT)]
         out: PathBuf,
-        /// What carries the messages: iceoryx2 or zenoh (TCP on 127.0.0.1).
+        /// What carries the messages: iceoryx2 or zenoh (mutual TLS on 127.0.0.1).
         #[arg(long, default_value = "iceoryx2")]
         transport: gridswarm::transport::Transport,
     },
@@ -272,7 +276,8 @@ const EXIT_STATUS: &str = "Exit status:
   1  error: bad scenario or value, unwritable output, a failed child process, too low an open-file
      limit, interrupted by SIGINT, SIGTERM, SIGHUP or SIGQUIT
   2  usage error: unknown flag or algorithm, a value out of range, faults that do not fit the run, flags
-     that do not fit together (e.g. run --algorithm lfp, --listen without --transport zenoh), a
+     that do not fit together (e.g. run --algorithm lfp, --listen without --transport zenoh,
+     --insecure off loopback without --insecure-network), a
      robot-agent the world refuses (its seed, scenario, ... differ from the world's)
   3  the search ended incomplete (simulate, run: every robot failed, cut off, a stop that knew
      targets unfound (exhausted) or came on an incomplete search (false_stop), or the round limit
@@ -475,6 +480,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             emit(&text);
             return Ok(finished(complete));
         }
+        Command::Credentials(args) => emit(&gridswarm_orchestrator::cli::credentials::run(&args)?),
         Command::Check { scenario } => {
             let outcome = check::check(&scenario)?;
             emit(&outcome.text);

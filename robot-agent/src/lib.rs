@@ -50,7 +50,7 @@ use gridswarm::agreement::{Agreement, ScenarioId};
 use gridswarm::choice::registry::{self, Factory};
 use gridswarm::grid::Grid;
 use gridswarm::ipc::{self, names};
-use gridswarm::net::{NetConfig, ZenohAgent};
+use gridswarm::net::{NetConfig, Security, ZenohAgent};
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::{Situation, SlotRule};
 use gridswarm::peer::Peer;
@@ -89,6 +89,18 @@ struct Args {
     /// Without one, the world is found by multicast scouting.
     #[arg(long, value_name = "ENDPOINT")]
     connect: Vec<String>,
+    /// zenoh: the run's credentials folder (`gridswarm credentials`), with
+    /// `ca.pem` and this robot's `robot-K.pem` and `robot-K.key`: mutual
+    /// TLS on a `tls/` endpoint.
+    #[arg(long, value_name = "DIR")]
+    credentials: Option<PathBuf>,
+    /// zenoh: plain TCP, nobody authenticated, nothing encrypted; to a
+    /// loopback endpoint only.
+    #[arg(long)]
+    insecure: bool,
+    /// zenoh: with --insecure, plain TCP beyond loopback too (or scouting).
+    #[arg(long, requires = "insecure")]
+    insecure_network: bool,
     /// zenoh: a link silent this long is lost (the world's host gone), ms.
     #[arg(long, default_value_t = gridswarm::net::DEFAULT_LEASE_MS, value_parser = clap::value_parser!(u64).range(100..))]
     lease_ms: u64,
@@ -304,13 +316,18 @@ fn run(args: &Args, setup: &RobotSetup, agreement: &Agreement) -> Result<Exit, S
             serve(args, setup, agreement, &Iceoryx2 { ports, world_pid })
         }
         Transport::Zenoh => {
-            let mut net = NetConfig::new(prefix);
+            let mut net = NetConfig::new(prefix, security_of(args)?);
             net.connect.clone_from(&args.connect);
             net.lease_ms = args.lease_ms;
             net.connect_timeout = Duration::from_millis(args.connect_timeout_ms);
             serve(args, setup, agreement, &ZenohAgent::open(&net, robot)?)
         }
     }
+}
+
+/// The protection `--credentials` or `--insecure` asks for.
+fn security_of(args: &Args) -> Result<Security, String> {
+    Security::from_flags(args.credentials.as_deref(), args.insecure, args.insecure_network, "--connect", &args.connect)
 }
 
 /// The robot's life once it reaches the world: hello, the world's
@@ -538,6 +555,12 @@ pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
             println!("{n}");
         }
         return ExitCode::SUCCESS;
+    }
+    if args.transport == Transport::Zenoh {
+        if let Err(e) = security_of(&args) {
+            eprintln!("robot-agent: error: {e}");
+            return ExitCode::from(2);
+        }
     }
     let (setup, agreement) = match setup_of(&args) {
         Ok(s) => s,

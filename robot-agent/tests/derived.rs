@@ -53,7 +53,15 @@ fn without_a_setup_or_a_scenario_it_is_a_usage_error() {
 fn a_zenoh_agent_with_no_world_gives_up_in_one_line() {
     let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
     let out = agent()
-        .args(["--transport", "zenoh", "--prefix", "noworld", "--connect", &format!("tcp/127.0.0.1:{port}")])
+        .args([
+            "--transport",
+            "zenoh",
+            "--prefix",
+            "noworld",
+            "--insecure",
+            "--connect",
+            &format!("tcp/127.0.0.1:{port}"),
+        ])
         .args(["--connect-timeout-ms", "300", "--scenario", "paper", "--seed", "1", "--robot", "0"])
         .output()
         .unwrap();
@@ -61,4 +69,26 @@ fn a_zenoh_agent_with_no_world_gives_up_in_one_line() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.starts_with("robot-agent 0: error: "), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+#[test]
+fn over_zenoh_it_needs_credentials_or_insecure_and_plain_tcp_stays_on_loopback() {
+    let run = ["--transport", "zenoh", "--prefix", "k", "--scenario", "paper", "--seed", "1", "--robot", "0"];
+    for (extra, words) in [
+        (&["--connect", "tls/10.0.0.1:7447"][..], "needs --credentials DIR"),
+        (&["--insecure", "--connect", "tcp/10.0.0.1:7447"][..], "not loopback"),
+        (&["--insecure"][..], "scouting"),
+        (&["--insecure", "--connect", "tls/127.0.0.1:7447"][..], "needs --credentials"),
+        (&["--credentials", "/nowhere", "--connect", "tcp/127.0.0.1:7447"][..], "plain TCP"),
+    ] {
+        let out = agent().args(run).args(extra).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(err.starts_with("robot-agent: error: ") && err.contains(words), "{extra:?}: {err}");
+    }
+    let out =
+        agent().args(run).args(["--credentials", "/nowhere", "--connect", "tls/127.0.0.1:7447"]).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("/nowhere/ca.pem") && err.contains("gridswarm credentials"), "{err}");
 }

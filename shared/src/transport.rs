@@ -18,13 +18,16 @@
 
 use std::time::Duration;
 
+pub mod credentials;
+
 /// Which transport a distributed run uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Transport {
     /// Shared memory between processes of one machine.
     #[default]
     Iceoryx2,
-    /// zenoh over TCP: processes on any hosts that reach each other.
+    /// zenoh over mutual TLS (or, `--insecure`, plain TCP): processes on
+    /// any hosts that reach each other.
     Zenoh,
 }
 
@@ -69,20 +72,98 @@ pub fn check_key(key: &str) -> Result<(), String> {
     }
 }
 
-/// A zenoh endpoint this build can use: `tcp/HOST:PORT`, optionally with
-/// zenoh's `?metadata` or `#config` after it (TCP is the only link built
-/// in). Checked before zenoh sees it: zenoh's own error is a debug dump
-/// naming its source files.
+/// A zenoh endpoint this build can use: `tcp/HOST:PORT` or
+/// `tls/HOST:PORT`, optionally with zenoh's `?metadata` or `#config` after
+/// it (TCP and TLS are the only links built in). Checked before zenoh
+/// sees it: zenoh's own error is a debug dump naming its source files.
 pub fn check_endpoint(e: &str) -> Result<(), String> {
+    parse_endpoint(e).map(|_| ())
+}
+
+/// An endpoint's link (`tcp`, `tls`) and host.
+fn parse_endpoint(e: &str) -> Result<(&str, &str), String> {
     let bare = e.split(['?', '#']).next().unwrap_or("");
-    let addr = bare.strip_prefix("tcp/");
-    let ok = addr.and_then(|a| a.rsplit_once(':')).is_some_and(|(host, port)| {
-        !host.is_empty() && !host.chars().any(|c| c.is_control() || c.is_whitespace()) && port.parse::<u16>().is_ok()
+    let parsed = bare.split_once('/').filter(|(link, _)| matches!(*link, "tcp" | "tls")).and_then(|(link, addr)| {
+        let (host, port) = addr.rsplit_once(':')?;
+        let ok = !host.is_empty()
+            && !host.chars().any(|c| c.is_control() || c.is_whitespace())
+            && port.parse::<u16>().is_ok();
+        ok.then_some((link, host))
     });
-    if ok {
+    parsed.ok_or_else(|| {
+        format!(
+            "`{}` is not an endpoint: expected tls/HOST:PORT or tcp/HOST:PORT, e.g. tls/0.0.0.0:7447",
+            e.escape_default()
+        )
+    })
+}
+
+/// Whether `host` (an endpoint's) is this machine's loopback.
+fn loopback(host: &str) -> bool {
+    let ip = host.trim_start_matches('[').trim_end_matches(']');
+    host == "localhost" || ip.parse::<std::net::IpAddr>().is_ok_and(|a| a.is_loopback())
+}
+
+/// How a zenoh run's links are protected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Guard {
+    /// Mutual TLS with the run's certificates (`--credentials`), the
+    /// world admitting each robot to its own key expressions only.
+    Tls,
+    /// Plain TCP, nobody authenticated and nothing encrypted
+    /// (`--insecure`): on loopback only, unless `network`
+    /// (`--insecure-network`).
+    Plain { network: bool },
+}
+
+impl Guard {
+    /// The link its endpoints use.
+    pub fn link(self) -> &'static str {
+        match self {
+            Guard::Tls => "tls",
+            Guard::Plain { .. } => "tcp",
+        }
+    }
+
+    /// Checks the `endpoints` flag `flag` gave (none: multicast scouting,
+    /// the network) against the guard.
+    pub fn check(self, flag: &str, endpoints: &[String]) -> Result<(), String> {
+        if endpoints.is_empty() {
+            return match self {
+                Guard::Tls => Err(format!(
+                    "with --credentials give {flag} tls/HOST:PORT: multicast scouting is not used with TLS"
+                )),
+                Guard::Plain { network: false } => Err(format!(
+                    "without {flag} the world is found by multicast scouting, on the network: with --insecure \
+                     that needs --insecure-network too"
+                )),
+                Guard::Plain { network: true } => Ok(()),
+            };
+        }
+        for e in endpoints {
+            let (link, host) = parse_endpoint(e).map_err(|err| format!("{flag}: {err}"))?;
+            let shown = e.escape_default();
+            match (self, link) {
+                (Guard::Tls, "tcp") => {
+                    return Err(format!(
+                        "{flag} `{shown}` is plain TCP: with --credentials the links are TLS, tls/HOST:PORT \
+                         (plain TCP only with --insecure)"
+                    ))
+                }
+                (Guard::Plain { .. }, "tls") => {
+                    return Err(format!("{flag} `{shown}`: a TLS link needs --credentials DIR"))
+                }
+                (Guard::Plain { network: false }, _) if !loopback(host) => {
+                    return Err(format!(
+                        "{flag} `{shown}` is not loopback: --insecure is plain TCP that anyone who reaches it can \
+                         read, join and disturb, so it is allowed on 127.0.0.1, ::1 and localhost only, unless \
+                         --insecure-network is given too (or use --credentials)"
+                    ))
+                }
+                _ => {}
+            }
+        }
         Ok(())
-    } else {
-        Err(format!("`{}` is not an endpoint: expected tcp/HOST:PORT, e.g. tcp/0.0.0.0:7447", e.escape_default()))
     }
 }
 
@@ -159,14 +240,33 @@ mod tests {
     }
 
     #[test]
-    fn endpoints_are_tcp_host_port() {
-        for good in ["tcp/127.0.0.1:7447", "tcp/[::1]:7447", "tcp/world.lab:1#iface=eth0", "tcp/h:0?x=1"] {
+    fn endpoints_are_tcp_or_tls_host_port() {
+        for good in ["tcp/127.0.0.1:7447", "tcp/[::1]:7447", "tcp/world.lab:1#iface=eth0", "tcp/h:0?x=1", "tls/h:7"] {
             assert_eq!(check_endpoint(good), Ok(()), "{good}");
         }
-        for bad in ["garbage", "tcp/", "tcp/:7447", "tcp/host", "tcp/host:99999", "udp/h:1", "tcp/h\n:1"] {
+        for bad in ["garbage", "tcp/", "tcp/:7447", "tcp/host", "tcp/host:99999", "udp/h:1", "tcp/h\n:1", "quic/h:1"] {
             let err = check_endpoint(bad).unwrap_err();
-            assert!(err.contains("expected tcp/HOST:PORT"), "{bad}: {err}");
+            assert!(err.contains("expected tls/HOST:PORT or tcp/HOST:PORT"), "{bad}: {err}");
         }
         assert!(check_endpoint("tcp/h\u{1b}:1").unwrap_err().contains("\\u{1b}"), "escaped");
+    }
+
+    #[test]
+    fn plain_tcp_stays_on_loopback_unless_the_network_is_asked_for() {
+        let e = |s: &str| vec![s.to_string()];
+        let plain = Guard::Plain { network: false };
+        for lo in ["tcp/127.0.0.1:1", "tcp/127.9.0.1:1", "tcp/[::1]:1", "tcp/localhost:1"] {
+            assert_eq!(plain.check("--listen", &e(lo)), Ok(()), "{lo}");
+        }
+        for far in ["tcp/0.0.0.0:7447", "tcp/10.0.0.1:1", "tcp/[::]:1", "tcp/world.lab:1"] {
+            let err = plain.check("--listen", &e(far)).unwrap_err();
+            assert!(err.contains("not loopback") && err.contains("--insecure-network"), "{far}: {err}");
+            assert_eq!(Guard::Plain { network: true }.check("--listen", &e(far)), Ok(()));
+        }
+        assert!(plain.check("--connect", &[]).unwrap_err().contains("scouting"));
+        assert!(plain.check("--listen", &e("tls/127.0.0.1:1")).unwrap_err().contains("needs --credentials"));
+        assert!(Guard::Tls.check("--listen", &e("tcp/127.0.0.1:1")).unwrap_err().contains("plain TCP"));
+        assert!(Guard::Tls.check("--listen", &[]).is_err());
+        assert_eq!(Guard::Tls.check("--listen", &e("tls/0.0.0.0:7447")), Ok(()));
     }
 }

@@ -30,12 +30,14 @@ struct World {
 
 impl World {
     /// `gridswarm run --transport zenoh --listen tcp/127.0.0.1:<free>
-    /// --remote-agents KEY ARGS`.
+    /// --insecure --remote-agents KEY ARGS`: plain TCP on loopback, so
+    /// that an agent can claim a robot number no certificate names (the
+    /// agreement is checked whatever secures the link).
     fn start(key: &str, args: &[&str]) -> Self {
         let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
         let endpoint = format!("tcp/127.0.0.1:{port}");
         let child = gridswarm()
-            .args(["run", "--transport", "zenoh", "--listen", &endpoint, "--remote-agents", key])
+            .args(["run", "--transport", "zenoh", "--listen", &endpoint, "--insecure", "--remote-agents", key])
             .args(args)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
@@ -45,7 +47,7 @@ impl World {
         World { child: Some(child), endpoint, key: key.into() }
     }
 
-    /// `robot-agent --transport zenoh --prefix KEY --connect ENDPOINT ARGS`, started.
+    /// `robot-agent --transport zenoh --prefix KEY --connect ENDPOINT --insecure ARGS`, started.
     fn agent(&self, args: &[&str]) -> Child {
         self.agent_with(args, &[])
     }
@@ -53,7 +55,7 @@ impl World {
     /// [`World::agent`] with more variables in its environment.
     fn agent_with(&self, args: &[&str], env: &[(&str, &str)]) -> Child {
         Command::new(bin_dir().join("robot-agent"))
-            .args(["--transport", "zenoh", "--prefix", &self.key, "--connect", &self.endpoint])
+            .args(["--transport", "zenoh", "--prefix", &self.key, "--connect", &self.endpoint, "--insecure"])
             .args(args)
             .envs(env.iter().copied())
             .stdin(Stdio::null())

@@ -31,7 +31,9 @@ fn thirteen_robots_complete_a_search() {
     let _s = serial();
     let v = run_json(&["--robots", "13", "--seed", "7"]);
     assert_eq!(v["engine"], "distributed");
-    assert_eq!(v["transport"], serde_json::json!({"name": "iceoryx2", "endpoints": [], "remote_agents": false}));
+    let local = serde_json::json!({"mode": "local"});
+    let transport = serde_json::json!({"name": "iceoryx2", "endpoints": [], "remote_agents": false, "security": local});
+    assert_eq!(v["transport"], transport);
     // `paper` is searched in situation 1.
     let a = &v["agreement"];
     assert_eq!(

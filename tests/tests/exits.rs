@@ -67,6 +67,22 @@ fn every_documented_exit_status_case_exits_as_the_readme_s_table_says() {
         (&["run", "--listen", "tcp/127.0.0.1:7447"], 2, "zenoh's flags without `--transport zenoh`"),
         (&["run", "--transport", "zenoh", "--remote-agents", "a/b"], 2, "a bad run key or endpoint"),
         (&["run", "--transport", "zenoh", "--listen", "garbage"], 2, "a bad run key or endpoint"),
+        (
+            &["run", "--transport", "zenoh", "--remote-agents", "k", "--listen", "tls/0.0.0.0:7447"],
+            2,
+            "without `--credentials` or `--insecure`",
+        ),
+        (
+            &["run", "--transport", "zenoh", "--insecure", "--listen", "tcp/0.0.0.0:7447"],
+            2,
+            "plain TCP off loopback without `--insecure-network`",
+        ),
+        (
+            &["run", "--transport", "zenoh", "--credentials", "k", "--listen", "tcp/127.0.0.1:7447"],
+            2,
+            "an endpoint whose link does not fit",
+        ),
+        (&["credentials", "--out", "/tmp", "--robots", "2"], 1, "unwritable output"),
         (&["simulate", "--robots", "3", "--seed", "2", "--max-rounds", "2"], 3, "the search ended incomplete"),
         (&["check", "random:5,break=3.1.2"], 3, "`check` found a failing assumption"),
     ];

@@ -1,13 +1,16 @@
 //! A run across real network stacks (issue 10, item 3): network namespaces
 //! joined by veth pairs stand in for hosts, one for the world and three
 //! for the agents, started by hand as README's "Running on several
-//! machines" says: `gridswarm run --transport zenoh --listen ...
-//! --remote-agents KEY` in the world's namespace, `robot-agent --transport
-//! zenoh --connect ... --scenario ... --seed ... --robot K` in the agents'
-//! (no setup file: each derives its own). It checks that a run without
-//! faults is `simulate`'s byte for byte, and that a host lost mid-run (its
-//! link cut, its processes killed, its namespace deleted) is declared by
-//! the robots while the search completes without a collision.
+//! machines" says: `gridswarm credentials`, then `gridswarm run
+//! --transport zenoh --listen tls/... --credentials DIR --remote-agents
+//! KEY` in the world's namespace, `robot-agent --transport zenoh --connect
+//! tls/... --credentials DIR --scenario ... --seed ... --robot K` in the
+//! agents' (no setup file: each derives its own). It checks that a run
+//! without faults is `simulate`'s byte for byte while a host without the
+//! run's credentials tries to join, read and disturb it (issue 23, item
+//! 2), and that a host lost mid-run (its link cut, its processes killed,
+//! its namespace deleted) is declared by the robots while the search
+//! completes without a collision.
 //!
 //! Namespaces and addresses are this test's own: named after its pid
 //! (`gsnt<pid>...`), 10.x addresses inside them only, nothing in the
@@ -23,6 +26,8 @@ use std::time::Duration;
 
 use gridswarm_e2e::*;
 use serde_json::Value;
+
+mod intruder;
 
 const HEAD: &str = "gsnt";
 const AGENT_HOSTS: usize = 3;
@@ -118,16 +123,34 @@ impl Hosts {
         r % AGENT_HOSTS + 1
     }
 
+    /// The run's credentials in `dir`, the world's certificate naming its
+    /// address on every link (`gridswarm credentials ... --host ADDR`).
+    fn credentials(&self, dir: &Path, robots: usize) -> std::path::PathBuf {
+        let keys = dir.join("keys");
+        let addrs: Vec<String> = (1..=AGENT_HOSTS).map(|k| self.world_addr(k)).collect();
+        intruder::credentials(&keys, robots, &addrs.iter().map(String::as_str).collect::<Vec<_>>());
+        keys
+    }
+
     /// Starts robot-agents 0..robots, each on its host, connecting to the
-    /// world's side of its host's link; returns their indices in `procs`.
-    fn start_agents(&mut self, key: &str, run: &[&str], robots: usize, env: &[(&str, String)]) -> Vec<usize> {
+    /// world's side of its host's link with the credentials in `keys`;
+    /// returns their indices in `procs`.
+    fn start_agents(
+        &mut self,
+        key: &str,
+        keys: &Path,
+        run: &[&str],
+        robots: usize,
+        env: &[(&str, String)],
+    ) -> Vec<usize> {
         let bin = bin_dir().join("robot-agent");
         (0..robots)
             .map(|r| {
                 let k = Self::host_of(r);
                 let mut args: Vec<String> =
                     ["--transport", "zenoh", "--prefix", key, "--connect"].iter().map(|s| s.to_string()).collect();
-                args.push(format!("tcp/{}:{PORT}", self.world_addr(k)));
+                args.push(format!("tls/{}:{PORT}", self.world_addr(k)));
+                args.extend(["--credentials".to_string(), keys.display().to_string()]);
                 args.extend(run.iter().map(|s| s.to_string()));
                 args.extend(["--robot".to_string(), r.to_string()]);
                 let ns = self.agents[k - 1].clone();
@@ -138,12 +161,13 @@ impl Hosts {
 
     /// Starts the orchestrator in the world's namespace, following a
     /// world that listens on every address and waits for agents by hand.
-    fn start_world(&mut self, key: &str, run: &[&str], out: &Path) -> usize {
+    fn start_world(&mut self, key: &str, keys: &Path, run: &[&str], out: &Path) -> usize {
         let mut args: Vec<String> = ["run", "--json", "--transport", "zenoh", "--remote-agents", key, "--listen"]
             .iter()
             .map(|s| s.to_string())
             .collect();
-        args.push(format!("tcp/0.0.0.0:{PORT}"));
+        args.push(format!("tls/0.0.0.0:{PORT}"));
+        args.extend(["--credentials".to_string(), keys.display().to_string()]);
         args.extend(["--out".to_string(), out.to_str().unwrap().to_string()]);
         args.extend(run.iter().map(|s| s.to_string()));
         let world = self.world.clone();
@@ -192,7 +216,11 @@ fn own_namespaces() -> Vec<String> {
 
 #[test]
 fn a_run_across_namespaces_is_the_in_process_run() {
-    if !can_make_hosts("a_run_across_namespaces_is_the_in_process_run") {
+    const TEST: &str = "a_run_across_namespaces_is_the_in_process_run";
+    if let Ok(spec) = std::env::var(intruder::SPEC) {
+        return intruder::act(&spec);
+    }
+    if !can_make_hosts(TEST) {
         return;
     }
     let _s = serial();
@@ -202,17 +230,48 @@ fn a_run_across_namespaces_is_the_in_process_run() {
     let key = format!("netns{}", std::process::id());
     {
         let mut hosts = Hosts::new(1);
-        let world = hosts.start_world(&key, &[&run[..], &["--robots", "13"]].concat(), &out);
-        hosts.start_agents(&key, &run, 13, &[]);
+        let keys = hosts.credentials(&dir, 13);
+        let world = hosts.start_world(&key, &keys, &[&run[..], &["--robots", "13"]].concat(), &out);
+        // A host of the network without the run's credentials: it has the
+        // authority's certificate (no secret) and its own authority's
+        // certificate for `robot-0`, and tries TLS with and without it,
+        // and plain TCP; each subscribes to everything and speaks as robot 0.
+        let own = dir.join("own");
+        intruder::credentials(&own, 1, &[]);
+        let tls = format!("tls/{}:{PORT}", hosts.world_addr(1));
+        let orders = intruder::Orders {
+            endpoint: tls.clone(),
+            key: key.clone(),
+            ca: Some(keys.join("ca.pem")),
+            cert: Some((own.join("robot-0.pem"), own.join("robot-0.key"))),
+            read: Vec::new(),
+            disturb: true,
+        };
+        let launcher = ["ip", "netns", "exec", hosts.agents[0].as_str()].map(String::from);
+        let exe = std::env::current_exe().unwrap();
+        let intruders = [
+            orders.clone(),
+            intruder::Orders { cert: None, ..orders.clone() },
+            intruder::Orders { endpoint: tls.replace("tls/", "tcp/"), ca: None, cert: None, ..orders },
+        ]
+        .map(|o| intruder::Intruder::start(&launcher, &exe, TEST, &o));
+        hosts.start_agents(&key, &keys, &run, 13, &[]);
         let v = hosts.finish(world);
+        for r in intruders.map(intruder::Intruder::stop) {
+            assert!(r.reached, "the world's port never answered the intruder: {r:?}");
+            assert_eq!((r.opened, r.received), (false, 0), "a host without credentials got in: {r:?}");
+        }
         assert_eq!(v["complete"], true, "{v}");
         assert_eq!(v["robots"], 13);
         assert_eq!(v["collisions"], 0);
         assert_eq!(v["died"], serde_json::json!([]));
         // Agents on other hosts are not measured: unknown, not 0.
         assert!(v["agent_cpu_ms_total"].is_null(), "{v}");
-        let listen = format!("tcp/0.0.0.0:{PORT}");
-        assert_eq!(v["transport"], serde_json::json!({"name": "zenoh", "endpoints": [listen], "remote_agents": true}));
+        let listen = format!("tls/0.0.0.0:{PORT}");
+        let security = serde_json::json!({"mode": "mutual-tls", "authenticated": true, "encrypted": true});
+        let transport =
+            serde_json::json!({"name": "zenoh", "endpoints": [listen], "remote_agents": true, "security": security});
+        assert_eq!(v["transport"], transport);
         assert_eq!((&v["agreement"]["key"], &v["agreement"]["seed"]), (&serde_json::json!(key), &serde_json::json!(7)));
     }
     assert!(own_namespaces().iter().all(|n| !n.contains("c1")), "namespaces left: {:?}", own_namespaces());
@@ -233,11 +292,12 @@ fn a_host_lost_mid_run_is_declared_and_the_search_completes() {
     let run = ["--scenario", "paper", "--seed", "5"];
     let key = format!("netnslost{}", std::process::id());
     let mut hosts = Hosts::new(2);
-    let world = hosts.start_world(&key, &[&run[..], &["--robots", "13"]].concat(), &dir.join("run"));
+    let keys = hosts.credentials(&dir, 13);
+    let world = hosts.start_world(&key, &keys, &[&run[..], &["--robots", "13"]].concat(), &dir.join("run"));
     // Robot 2 (host 3) stops itself on slot 4's readings: the world then
     // waits on it, so the host is lost at a known point mid-run.
     let hang = [("GRIDSWARM_AGENT_HANG", "2@4".to_string())];
-    let agents = hosts.start_agents(&key, &run, 13, &hang);
+    let agents = hosts.start_agents(&key, &keys, &run, 13, &hang);
     let lost_host = Hosts::host_of(2);
     let on_lost: Vec<usize> = (0..13).filter(|&r| Hosts::host_of(r) == lost_host).collect();
     let hung = hosts.procs[agents[2]].id();

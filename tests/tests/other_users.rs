@@ -1,8 +1,13 @@
 //! Other local users against a run (issue 11, item 4; SECURITY.md): a
 //! hostile user who keeps overwriting and truncating every file of a live
 //! run, a second user running beside the first, and a root folder that
-//! belongs to someone else. The other user is uid 65534 (`nobody`), reached
-//! with `setpriv`; that needs root, as in CI.
+//! belongs to someone else; and a zenoh run (issue 23, item 2), which the
+//! other user can neither read, join nor disturb without the run's
+//! credentials, while with `--insecure` it can read it all. The other user
+//! is uid 65534 (`nobody`), reached with `setpriv`; that needs root, as in
+//! CI.
+
+mod intruder;
 
 use std::fs;
 use std::io::Read;
@@ -312,6 +317,115 @@ fn chown(path: &Path, uid: u32) {
     let c = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
     // SAFETY: chown(2) on a path this test made, with a valid C string.
     assert_eq!(unsafe { libc::chown(c.as_ptr(), uid, uid) }, 0, "chown {}", path.display());
+}
+
+/// `setpriv` as the other user, as an intruder's launcher.
+fn other_user() -> Vec<String> {
+    ["setpriv".into(), format!("--reuid={OTHER_UID}"), format!("--regid={OTHER_UID}"), "--clear-groups".into()].into()
+}
+
+/// Makes `dir` and its files readable by the other user (its own
+/// certificates; the authority's certificate, which is no secret).
+fn open_to_other(dir: &Path) {
+    fs::set_permissions(dir, fs::Permissions::from_mode(0o755)).unwrap();
+    for e in fs::read_dir(dir).unwrap() {
+        fs::set_permissions(e.unwrap().path(), fs::Permissions::from_mode(0o644)).unwrap();
+    }
+}
+
+#[test]
+fn another_user_cannot_read_join_or_disturb_a_zenoh_run() {
+    const TEST: &str = "another_user_cannot_read_join_or_disturb_a_zenoh_run";
+    if let Ok(spec) = std::env::var(intruder::SPEC) {
+        return intruder::act(&spec);
+    }
+    if !can_switch_user(TEST) {
+        return;
+    }
+    let _s = serial();
+    let dir = scratch("zenoh-other-user");
+    let exe = runnable_by_other(&[std::env::current_exe().unwrap()], &dir)[0].clone();
+    // The run's credentials, as README's commands make them (mode 0700).
+    let keys = dir.join("keys");
+    intruder::credentials(&keys, 4, &[]);
+    // The other user's own: another authority's, with a `robot-0`
+    // certificate, and a copy of the run's authority's certificate.
+    let own = dir.join("own");
+    intruder::credentials(&own, 1, &[]);
+    fs::copy(keys.join("ca.pem"), own.join("run-ca.pem")).unwrap();
+    open_to_other(&own);
+    let port = intruder::free_port();
+    let (tls, tcp) = (format!("tls/127.0.0.1:{port}"), format!("tcp/127.0.0.1:{port}"));
+    let key = format!("other{}", std::process::id());
+    let security = ["--credentials".to_string(), keys.display().to_string()];
+    let run = ["--scenario", "paper", "--seed", "3", "--robots", "4"];
+    let out = dir.join("run");
+    let mut world = Reaped(Some(intruder::start_world(&key, &tls, &security, &run, &out)));
+    let orders = intruder::Orders {
+        endpoint: tls.clone(),
+        key: key.clone(),
+        ca: Some(own.join("run-ca.pem")),
+        cert: Some((own.join("robot-0.pem"), own.join("robot-0.key"))),
+        read: ["ca.pem", "world.key", "robot-0.key"].map(|f| keys.join(f)).into(),
+        disturb: true,
+    };
+    let impostor = intruder::Intruder::start(&other_user(), &exe, TEST, &orders);
+    let anonymous =
+        intruder::Intruder::start(&other_user(), &exe, TEST, &intruder::Orders { cert: None, ..orders.clone() });
+    let plain = intruder::Intruder::start(
+        &other_user(),
+        &exe,
+        TEST,
+        &intruder::Orders { endpoint: tcp, ca: None, cert: None, ..orders },
+    );
+    let agents = intruder::start_agents(&key, &tls, &security, &run[..4], 4);
+    let v = intruder::finish(world.take(), agents);
+    for (who, r) in [
+        ("another authority's robot 0", impostor.stop()),
+        ("no certificate", anonymous.stop()),
+        ("plain TCP", plain.stop()),
+    ] {
+        assert!(r.reached, "{who}: the world's port never answered: {r:?}");
+        assert_eq!((r.opened, r.read, r.received), (false, 0, 0), "{who} got in: {r:?}");
+    }
+    assert_eq!(
+        v["transport"]["security"],
+        serde_json::json!({"mode": "mutual-tls", "authenticated": true, "encrypted": true})
+    );
+    intruder::same_as_simulate(&out, &run);
+}
+
+#[test]
+fn with_insecure_another_user_reads_the_whole_run() {
+    const TEST: &str = "with_insecure_another_user_reads_the_whole_run";
+    if let Ok(spec) = std::env::var(intruder::SPEC) {
+        return intruder::act(&spec);
+    }
+    if !can_switch_user(TEST) {
+        return;
+    }
+    let _s = serial();
+    let dir = scratch("zenoh-insecure");
+    let exe = runnable_by_other(&[std::env::current_exe().unwrap()], &dir)[0].clone();
+    let endpoint = format!("tcp/127.0.0.1:{}", intruder::free_port());
+    let key = format!("plain{}", std::process::id());
+    let security = ["--insecure".to_string()];
+    let run = ["--scenario", "paper", "--seed", "3", "--robots", "4"];
+    let out = dir.join("run");
+    let mut world = Reaped(Some(intruder::start_world(&key, &endpoint, &security, &run, &out)));
+    let orders = intruder::Orders { endpoint: endpoint.clone(), key: key.clone(), ..Default::default() };
+    let listener = intruder::Intruder::start(&other_user(), &exe, TEST, &orders);
+    let agents = intruder::start_agents(&key, &endpoint, &security, &run[..4], 4);
+    let v = intruder::finish(world.take(), agents);
+    let r = listener.stop();
+    assert!(r.opened && r.received > 100, "plain TCP is open to anyone: {r:?}");
+    for k in ["in/0", "out/3", "alive/1"] {
+        assert!(r.keys.contains(&format!("gridswarm/{key}/{k}")), "{k} heard: {r:?}");
+    }
+    assert_eq!(
+        v["transport"]["security"],
+        serde_json::json!({"mode": "none", "authenticated": false, "encrypted": false})
+    );
 }
 
 /// Every file of the run with this prefix, its root folder included,

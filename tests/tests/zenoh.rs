@@ -4,7 +4,11 @@
 //! byte, as over iceoryx2, also when a robot's process is killed (the
 //! world learns it from the robot's liveliness token), and leave nothing
 //! behind. A robot silent past its lease is dead for good, also when its
-//! process comes back.
+//! process comes back. The links are mutual TLS with credentials the run
+//! makes for itself, and one robot's credentials speak and hear for that
+//! robot only (issue 23, item 2).
+
+mod intruder;
 
 use std::fs;
 use std::path::Path;
@@ -40,7 +44,8 @@ fn a_zenoh_run_on_paper_is_the_in_process_run() {
     same_files("paper-13-7", &run, &sim);
     let endpoints = v["transport"]["endpoints"].as_array().unwrap();
     assert_eq!((&v["transport"]["name"], endpoints.len()), (&serde_json::json!("zenoh"), 1), "{v}");
-    assert!(endpoints[0].as_str().unwrap().starts_with("tcp/127.0.0.1:"), "{v}");
+    assert!(endpoints[0].as_str().unwrap().starts_with("tls/127.0.0.1:"), "{v}");
+    assert_eq!(v["transport"]["security"]["mode"], "mutual-tls", "{v}");
     assert_eq!(v["agreement"]["key"], v["ipc_prefix"], "the run key of a run on one machine is its prefix");
     assert_eq!(v["agreement"]["seed"], 7);
     assert_eq!(v["complete"], true);
@@ -113,4 +118,66 @@ fn zenoh_only_flags_are_refused_on_iceoryx2_and_keys_are_checked() {
     assert!(text(&out.stderr).contains("--remote-agents the orchestrator has none"), "{}", text(&out.stderr));
     let out = gridswarm().args(["run", "--transport", "carrier-pigeon"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn a_robot_s_credentials_speak_and_hear_for_that_robot_only() {
+    const TEST: &str = "a_robot_s_credentials_speak_and_hear_for_that_robot_only";
+    if let Ok(spec) = std::env::var(intruder::SPEC) {
+        return intruder::act(&spec);
+    }
+    let _s = serial();
+    let dir = scratch("zenoh-robot-acl");
+    let keys = dir.join("keys");
+    intruder::credentials(&keys, 4, &[]);
+    let endpoint = format!("tls/127.0.0.1:{}", intruder::free_port());
+    let key = format!("acl{}", std::process::id());
+    let security = ["--credentials".to_string(), keys.display().to_string()];
+    let run = ["--scenario", "paper", "--seed", "5", "--robots", "4"];
+    let out = dir.join("run");
+    let world = intruder::start_world(&key, &endpoint, &security, &run, &out);
+    // Robot 1's own certificate, in the hands of someone who subscribes to
+    // everything and speaks as robot 0 (its answers, its inbox, its token).
+    let orders = intruder::Orders {
+        endpoint: endpoint.clone(),
+        key: key.clone(),
+        ca: Some(keys.join("ca.pem")),
+        cert: Some((keys.join("robot-1.pem"), keys.join("robot-1.key"))),
+        disturb: true,
+        ..Default::default()
+    };
+    let robot1 = intruder::Intruder::start(&[], &std::env::current_exe().unwrap(), TEST, &orders);
+    let agents = intruder::start_agents(&key, &endpoint, &security, &run[..4], 4);
+    let v = intruder::finish(world, agents);
+    let r = robot1.stop();
+    assert!(r.opened && r.received > 0, "robot 1's credentials join and hear robot 1's inbox: {r:?}");
+    let own = format!("gridswarm/{key}/in/1");
+    assert_eq!(r.keys.iter().collect::<Vec<_>>(), [&own], "nothing but robot 1's inbox is heard: {r:?}");
+    assert_eq!(v["complete"], true, "{v}");
+    intruder::same_as_simulate(&out, &run);
+}
+
+#[test]
+fn a_robot_refuses_a_world_whose_certificate_does_not_name_the_host() {
+    let _s = serial();
+    let dir = scratch("zenoh-names");
+    // The world's certificate names localhost, 127.0.0.1 and ::1 only.
+    let keys = dir.join("keys");
+    intruder::credentials(&keys, 2, &[]);
+    let port = intruder::free_port();
+    let (named, unnamed) = (format!("tls/127.0.0.1:{port}"), format!("tls/127.0.0.2:{port}"));
+    let key = format!("names{}", std::process::id());
+    let security = ["--credentials".to_string(), keys.display().to_string()];
+    let run = ["--scenario", "small", "--seed", "2", "--robots", "2"];
+    let listen_both = [&security[..], &["--listen".to_string(), unnamed.clone()]].concat();
+    let world = intruder::start_world(&key, &named, &listen_both, &run, &dir.join("run"));
+    let wrong = [&security[..], &["--connect-timeout-ms".to_string(), "3000".into()]].concat();
+    let mut refused = intruder::start_agents(&key, &unnamed, &wrong, &run[..4], 1);
+    let out = refused.pop().unwrap().wait_with_output().unwrap();
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("must name the host in --connect"), "{err}");
+    // The same credentials through a name the certificate holds: the run goes on.
+    let v = intruder::finish(world, intruder::start_agents(&key, &named, &security, &run[..4], 2));
+    assert_eq!(v["complete"], true, "{v}");
 }

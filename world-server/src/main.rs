@@ -33,7 +33,7 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use gridswarm::agreement::{Agreement, ScenarioId};
 use gridswarm::ipc::{self, RunFile, RunReport};
-use gridswarm::net::{NetConfig, ZenohWorld};
+use gridswarm::net::{NetConfig, Security, ZenohWorld};
 use gridswarm::outcome::RunResult;
 use gridswarm::scenario::Scenario;
 use gridswarm::sim::Kernel;
@@ -83,6 +83,18 @@ struct Args {
     /// zenoh: a link silent this long is lost (a robot's host gone), ms.
     #[arg(long, default_value_t = gridswarm::net::DEFAULT_LEASE_MS, value_parser = clap::value_parser!(u64).range(100..))]
     lease_ms: u64,
+    /// zenoh: the run's credentials folder (`gridswarm credentials`):
+    /// mutual TLS on `tls/` endpoints, each robot admitted to its own key
+    /// expressions only.
+    #[arg(long, value_name = "DIR")]
+    credentials: Option<PathBuf>,
+    /// zenoh: plain TCP, nobody authenticated, nothing encrypted; on
+    /// loopback endpoints only.
+    #[arg(long)]
+    insecure: bool,
+    /// zenoh: with --insecure, plain TCP beyond loopback too.
+    #[arg(long, requires = "insecure")]
+    insecure_network: bool,
     /// The agents run on other hosts: their process ids mean nothing here,
     /// so their memory and CPU are not measured.
     #[arg(long)]
@@ -133,7 +145,15 @@ fn run(args: Args) -> Result<(), Failure> {
     let loaded = load(&args.run)?;
     let robots = loaded.0.robots;
     if args.transport == Transport::Zenoh {
-        let mut net = NetConfig::new(key(&args));
+        let endpoints = [&args.listen[..], &args.connect[..]].concat();
+        let security = Security::from_flags(
+            args.credentials.as_deref(),
+            args.insecure,
+            args.insecure_network,
+            "--listen",
+            &endpoints,
+        )?;
+        let mut net = NetConfig::new(key(&args), security);
         net.listen.clone_from(&args.listen);
         net.connect.clone_from(&args.connect);
         net.lease_ms = args.lease_ms;

@@ -79,7 +79,12 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     agreement["key"] = serde_json::Value::Null;
     let extra = json!({
         "engine": "in-process",
-        "transport": { "name": "in-process", "endpoints": [], "remote_agents": false },
+        "transport": {
+            "name": "in-process",
+            "endpoints": [],
+            "remote_agents": false,
+            "security": crate::run::security(None),
+        },
         "agreement": agreement,
         "max_rounds": max_rounds,
         "radio": cfg.radio,

@@ -13,8 +13,9 @@ use zenoh::sample::{Sample, SampleKind};
 use zenoh::{Session, Wait};
 
 use super::retry::{seq_of, Incoming, Replies};
-use super::{err, one_chunk, publisher, NetConfig};
+use super::{err, one_chunk, publisher, NetConfig, Security};
 use crate::ipc;
+use crate::transport::credentials::Holder;
 use crate::transport::AgentTransport;
 use crate::wire::HANDSHAKE;
 
@@ -36,7 +37,9 @@ impl ZenohAgent {
     /// the world is there, so that its hello is heard.
     pub fn open(net: &NetConfig, robot: usize) -> Result<Self, String> {
         let root = net.root()?;
-        let session = zenoh::open(net.zenoh("client")?).wait().map_err(err("cannot reach the world"))?;
+        let config = net.zenoh(Holder::Robot(robot), 0)?;
+        let session =
+            zenoh::open(config).wait().map_err(|e| format!("zenoh: cannot reach the world: {e}{}", hint(net)))?;
         let inbox = session
             .declare_subscriber(format!("{root}/in/{robot}"))
             .wait()
@@ -66,11 +69,27 @@ impl ZenohAgent {
         let deadline = Instant::now() + net.connect_timeout;
         while !agent.world_alive() {
             if Instant::now() >= deadline {
-                return Err(format!("no world of run `{}` appeared within {:?}", net.key, net.connect_timeout));
+                return Err(format!(
+                    "no world of run `{}` appeared within {:?}{}",
+                    net.key,
+                    net.connect_timeout,
+                    hint(net)
+                ));
             }
             std::thread::sleep(Duration::from_millis(5));
         }
         Ok(agent)
+    }
+}
+
+/// Why a TLS link may fail where a plain one would not.
+fn hint(net: &NetConfig) -> &'static str {
+    match net.security {
+        Security::Tls(_) => {
+            " (over TLS the world's certificate must name the host in --connect, `gridswarm credentials --host`, \
+             and the world's and the robot's certificates come from one `gridswarm credentials`)"
+        }
+        Security::Plain => "",
     }
 }
 

@@ -15,6 +15,7 @@ use zenoh::{Session, Wait};
 use super::retry::Outstanding;
 use super::{err, one_chunk, publisher, NetConfig};
 use crate::ipc;
+use crate::transport::credentials::Holder;
 use crate::transport::WorldTransport;
 use crate::wire::HANDSHAKE;
 
@@ -57,7 +58,8 @@ impl ZenohWorld {
     /// Opens the world's router for `robots` robots.
     pub fn open(net: &NetConfig, robots: usize) -> Result<Self, String> {
         let root = net.root()?;
-        let session = zenoh::open(net.zenoh("router")?).wait().map_err(err("cannot open the world's session"))?;
+        let config = net.zenoh(Holder::World, robots)?;
+        let session = zenoh::open(config).wait().map_err(err("cannot open the world's session"))?;
         let inboxes = (0..robots)
             .map(|r| publisher(&session, format!("{root}/in/{r}"), "cannot declare a publisher"))
             .collect::<Result<Vec<_>, _>>()?;

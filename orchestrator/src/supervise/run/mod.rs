@@ -18,6 +18,7 @@
 //! one-line error. A run the open-file limit cannot hold is refused before
 //! anything starts ([`admit`]).
 
+pub mod credentials;
 mod files;
 mod inject;
 mod net;
@@ -51,6 +52,7 @@ pub use files::temp_files;
 use files::RunFiles;
 pub use net::NetOptions;
 use spawn::Processes;
+pub use summary::security;
 
 /// How long agents get to exit by themselves after the end.
 const AGENT_GRACE: Duration = Duration::from_secs(5);
@@ -196,13 +198,13 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
         return Err(if opts.robots.is_some() { Error::Usage(msg) } else { Error::Scenario(msg) });
     }
     schedule::check(&opts.faults, robots).map_err(Error::Usage)?;
-    opts.net.check()?;
     if opts.net.remote_agents.is_some() && (!opts.faults.is_empty() || opts.kill_random > 0) {
         return Err(Error::Usage(
             "faults are applied by signalling the agents' processes; with --remote-agents the orchestrator has none"
                 .into(),
         ));
     }
+    opts.net.check()?;
     for (name, p) in [("--loss", opts.radio.loss), ("--dup", opts.radio.dup)] {
         if !(0.0..=1.0).contains(&p) {
             return Err(Error::Usage(format!("{name} {p}: a probability is between 0 and 1")));
@@ -281,7 +283,11 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let (tx, rx) = mpsc::channel();
     launch::forward_signals(tx.clone()).map_err(Error::Run)?;
     let mut procs = Processes::new(&prefix);
-    let launch = opts.net.args(&prefix)?;
+    let launch = opts.net.args(&prefix, &files.dir)?;
+    if let Some(hosts) = &launch.own_credentials {
+        // Valid for the day: the folder goes with the run.
+        credentials::write(&files.dir, &credentials::Order { robots: plan.robots, hosts, days: 1 })?;
+    }
     if let Some(key) = &opts.net.remote_agents {
         eprintln!("{}", net::hand_hint(key, opts, &plan));
     }

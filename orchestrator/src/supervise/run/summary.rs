@@ -13,6 +13,8 @@ use gridswarm::sim::{schedule, seconds, FaultKind};
 use gridswarm::world::World;
 use serde_json::{json, Value};
 
+use gridswarm::transport::Guard;
+
 use super::net::Launch;
 use super::{Followed, Plan, RunOptions};
 
@@ -88,7 +90,18 @@ fn transport(opts: &RunOptions, launch: &Launch) -> Value {
         "name": opts.net.transport.name(),
         "endpoints": launch.endpoints,
         "remote_agents": opts.net.remote_agents.is_some(),
+        "security": security(launch.guard),
     })
+}
+
+/// How the links were protected: `security` of the summary's `transport`.
+pub fn security(guard: Option<Guard>) -> Value {
+    match guard {
+        Some(Guard::Tls) => json!({"mode": "mutual-tls", "authenticated": true, "encrypted": true}),
+        Some(Guard::Plain { .. }) => json!({"mode": "none", "authenticated": false, "encrypted": false}),
+        // Shared memory or function calls: no network, files only the run's uid can open.
+        None => json!({"mode": "local"}),
+    }
 }
 
 /// The engine=distributed fields of the summary.
