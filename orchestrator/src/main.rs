@@ -22,6 +22,7 @@ use gridswarm_orchestrator::failures::{self, FailuresOptions};
 use gridswarm_orchestrator::faults::{FaultFlags, RunBase};
 use gridswarm_orchestrator::grids::{self, GridsOptions};
 use gridswarm_orchestrator::radio::{self, RadioOptions};
+use gridswarm_orchestrator::readings::{self, ReadingsOptions};
 use gridswarm_orchestrator::robots::{RobotCounts, MAX_ROBOTS};
 use gridswarm_orchestrator::scale::{self, ScaleOptions};
 use gridswarm_orchestrator::simulate::{self, SimulateOptions};
@@ -69,8 +70,9 @@ enum Command {
         faults: FaultFlags,
     },
     /// The Monte Carlo sweep of Fig. 7 and its claims; with --grids, the
-    /// lattice comparison of Sec. 3 instead; `failures`, `radio` and `scale`
-    /// for the protocol under crashes, radio loss and growing robot counts.
+    /// lattice comparison of Sec. 3 instead; `readings` for the claims over
+    /// the paper's open readings; `failures`, `radio` and `scale` for the
+    /// protocol under crashes, radio loss and growing robot counts.
     ///
     /// Writes results.csv, runs.csv, fig7.svg, claims.txt, summary.json and
     /// report.html (grids.csv and grids.html with --grids) in --out, and
@@ -237,6 +239,36 @@ enum ExperimentKind {
         #[arg(long, default_value = radio::DEFAULT_OUT)]
         out: PathBuf,
     },
+    /// The Fig. 7 sweep over a grid of the paper's open readings (RU's
+    /// collision charge, LFP's turning law), the three claims evaluated
+    /// under every combination and seed, and the region where all three hold.
+    ///
+    /// Writes readings.csv, cells.csv, claims.txt, readings.svg (the heat
+    /// map), summary.json and report.html in --out and prints the verdicts.
+    Readings {
+        #[command(flatten)]
+        scenario: ScenarioArg,
+        /// Robot counts: `1-13`, `5` or `1,3,5`.
+        #[arg(long, default_value = DEFAULT_ROBOTS)]
+        robots: RobotCounts,
+        /// Runs per (algorithm, reading, robot count) and seed.
+        #[arg(long, default_value_t = DEFAULT_RUNS, value_parser = clap::value_parser!(u32).range(2..))]
+        runs: u32,
+        /// Base seeds, comma-separated: the whole grid under each (e.g. 1,2,3,4,5 checks that verdicts survive a change of seed).
+        #[arg(long, value_delimiter = ',', default_value = "1")]
+        seeds: Vec<u64>,
+        /// RU's readings of "one extra move time per collision": per-pair, back-off.
+        #[arg(long, value_delimiter = ',', default_value = readings::DEFAULT_RU, value_parser = readings::parse_ru)]
+        ru: Vec<gridswarm::params::RuCollisions>,
+        /// LFP's turning laws: sigmas of the normal turn (rad) and/or `uniform`.
+        #[arg(long, value_delimiter = ',', default_value = readings::DEFAULT_TURNS, value_parser = readings::parse_turn)]
+        turns: Vec<gridswarm::lfp::Turn>,
+        #[command(flatten)]
+        distributed: Distributed,
+        /// Output directory (created if missing).
+        #[arg(long, default_value = readings::DEFAULT_OUT)]
+        out: PathBuf,
+    },
     /// Distributed runs at growing robot counts: wall time per round
     /// (p50/p99), start-up and memory against N, next to the in-process
     /// engine timed on the same runs.
@@ -365,6 +397,21 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 retries: retries.0,
             };
             radio::run(&opts)?.1
+        }
+        ExperimentKind::Readings { scenario, robots, runs, seeds, ru, turns, distributed: d, out } => {
+            let opts = ReadingsOptions {
+                scenario: scenario.scenario,
+                robots: robots.0,
+                runs,
+                seeds,
+                ru,
+                turns,
+                situation: situation(d.situation),
+                max_rounds: d.max_rounds,
+                out,
+                progress,
+            };
+            readings::run(&opts)?.1
         }
         ExperimentKind::Scale { robots, runs, seed, scenario, algorithm, distributed: d, out, transport } => {
             let opts = ScaleOptions {

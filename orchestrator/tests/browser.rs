@@ -9,7 +9,7 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
@@ -63,8 +63,11 @@ fn headless(work: &Path, extra: &[String], url: &str) -> String {
     .arg(format!("--user-data-dir={}", profile.display()))
     .args(extra)
     .arg(url)
-    .stdout(Stdio::piped())
-    .stderr(Stdio::piped());
+    // Files, not pipes: nobody reads a pipe until chromium exits, and a
+    // page's DOM over the pipe's 64 KB (an LFP replay of 800 rounds) would
+    // block it for ever.
+    .stdout(fs::File::create(profile.join("stdout")).unwrap())
+    .stderr(fs::File::create(profile.join("stderr")).unwrap());
     let mut child = cmd.spawn().expect("chromium starts");
     let started = Instant::now();
     loop {
@@ -78,14 +81,14 @@ fn headless(work: &Path, extra: &[String], url: &str) -> String {
         }
         std::thread::sleep(Duration::from_millis(50));
     }
-    let out = child.wait_with_output().unwrap();
+    let status = child.wait().unwrap();
+    let stdout = String::from_utf8_lossy(&fs::read(profile.join("stdout")).unwrap()).into_owned();
+    let stderr = String::from_utf8_lossy(&fs::read(profile.join("stderr")).unwrap()).into_owned();
     let _ = fs::remove_dir_all(&profile);
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
-        out.status.success(),
-        "chromium failed ({:?}) on {url}:\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr).lines().rev().take(15).collect::<Vec<_>>().join("\n")
+        status.success(),
+        "chromium failed ({status:?}) on {url}:\n{}",
+        stderr.lines().rev().take(15).collect::<Vec<_>>().join("\n")
     );
     stdout
 }

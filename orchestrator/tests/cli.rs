@@ -205,8 +205,10 @@ fn small_experiment_writes_tables_figure_and_claims() {
     assert_eq!(oracle.len(), 3, "{summary}");
     assert!(text.contains("x_oracle"), "{text}");
     let readings = summary["sensitivity"].as_array().unwrap();
-    // RU's per-pair collisions, LFP's turn and repulsion range, at 3 counts.
-    assert_eq!(readings.len(), 3 * 3, "{summary}");
+    // RU's other collision charge, LFP's other turning laws (uniform, and
+    // sigma 0.5 unless that is the default) and repulsion range, at 3 counts.
+    let alternatives = if summary["lfp"]["turn"] == 0.5 { 3 } else { 4 };
+    assert_eq!(readings.len(), alternatives * 3, "{summary}");
     let html = fs::read_to_string(one.join("report.html")).unwrap();
     assert!(html.contains("Sensitivity to the readings") && html.contains("× oracle"));
 
@@ -215,6 +217,49 @@ fn small_experiment_writes_tables_figure_and_claims() {
     assert_ok(&gridswarm(&a2.iter().map(String::as_str).collect::<Vec<_>>()));
     assert_eq!(csv, fs::read_to_string(many.join("results.csv")).unwrap());
     assert_eq!(fs::read(one.join("runs.csv")).unwrap(), fs::read(many.join("runs.csv")).unwrap());
+}
+
+#[test]
+fn readings_reuse_curves_and_judge_as_the_sweep_does() {
+    let d = scratch("readings");
+    let sweep = d.join("sweep");
+    let common = ["--runs", "4", "--robots", "1-4"];
+    let mut a = vec!["experiment", "--seed", "2", "--out", path(&sweep)];
+    a.extend(common);
+    assert_ok(&gridswarm(&a));
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(sweep.join("summary.json")).unwrap()).unwrap();
+    let sigma = summary["lfp"]["turn"].to_string();
+    let grid = d.join("grid");
+    let turns = format!("uniform,{sigma}");
+    let mut a = vec!["experiment", "readings", "--seeds", "1,2", "--turns", &turns, "--out", path(&grid)];
+    a.extend(common);
+    let o = gridswarm(&a);
+    assert_ok(&o);
+    let text = stdout(&o);
+    assert!(text.contains("RU reading") && text.contains("same at every seed"), "{text}");
+    // 2 seeds x 2 RU readings x 2 turning laws x (3 claims and all three).
+    let csv = fs::read_to_string(grid.join("readings.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 2 * 2 * 2 * 4, "{csv}");
+    // Curves per seed: LFP under 2 laws x 2 charges, RU under 2 charges,
+    // (1)&(3) and (1),(2)&(3) once: 8, at 4 robot counts.
+    let cells = fs::read_to_string(grid.join("cells.csv")).unwrap();
+    assert_eq!(cells.lines().count(), 1 + 2 * 8 * 4, "{cells}");
+    roxmltree::Document::parse(&fs::read_to_string(grid.join("readings.svg")).unwrap()).expect("SVG is XML");
+    assert!(fs::read_to_string(grid.join("report.html")).unwrap().contains("Where the claims hold"));
+    // The combination of the scenario's own readings at seed 2 is the
+    // sweep's: the same claims, evidence and all.
+    let r: serde_json::Value = serde_json::from_str(&fs::read_to_string(grid.join("summary.json")).unwrap()).unwrap();
+    let own = r["outcomes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|x| x["seed"] == 2 && x["ru_collisions"] == "per-pair" && x["turn"] != "uniform")
+        .expect("the scenario's readings are in the grid");
+    assert_eq!(own["claims"], summary["claims"]);
+    // A turning law that is not one is a usage error.
+    let o = gridswarm(&["experiment", "readings", "--turns", "-1", "--out", path(&d.join("bad"))]);
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 #[test]

@@ -12,9 +12,10 @@
 //! - **Flights.** A robot starts at its start vertex's position. A flight has
 //!   a length `L = clamp(scale * a * s, a, max_step * a)` with `s` drawn by
 //!   Mantegna's method with exponent `beta`, and a heading: uniform in
-//!   `[0, 2 pi)` for every flight by default (isotropic, as a Levy flight
-//!   draws directions), or, with `turn = sigma`, uniform for the first and
-//!   then the previous heading plus `N(0, sigma)` ([`Turn`]). A new
+//!   `[0, 2 pi)` for the first flight, then the previous heading plus
+//!   `N(0, sigma)` (the paper's normal turning law; sigma calibrated,
+//!   [`readings::DEFAULT_TURN_SIGMA`]), or with `turn = "uniform"` uniform
+//!   for every flight ([`Turn`]). A new
 //!   heading that points into a sensed obstacle (against the obstacle
 //!   repulsion) is mirrored off it, so a robot stopped at a wall turns away.
 //! - **Rounds.** Time advances in lock-step rounds. In each round every robot
@@ -50,7 +51,7 @@
 //!   `max_steer` between two micro-steps (smaller bends are steering while
 //!   driving). Collisions add `params.collision_penalty`, the reading the
 //!   world applies to RU ([`crate::params::RuCollisions`]): by default one
-//!   move time if the round had any.
+//!   move time per colliding pair.
 //! - **Collisions.** The referee counts a collision for every pair of robots
 //!   that come closer than `2 * r_safe` at any moment of the round. All
 //!   robots move through their micro-steps together and each micro-step is
@@ -86,7 +87,7 @@ mod levy;
 mod readings;
 mod sensing;
 
-pub use readings::{RepelRange, Turn};
+pub use readings::{RepelRange, Turn, DEFAULT_TURN_SIGMA};
 
 use std::sync::OnceLock;
 
@@ -124,9 +125,9 @@ pub struct LfpParams {
     /// a paper-sized 20 x 16 m area, where a longer flight would only run
     /// into a wall (0.5 % of draws reach it).
     pub max_step: f64,
-    /// How each new flight's heading is drawn: `"uniform"` (default) or a
-    /// turn sigma in radians for a correlated walk (`turn_sigma = 0.5`, the
-    /// former default, is still read). Search time is sensitive to it (one
+    /// How each new flight's heading is drawn: a turn sigma in radians
+    /// (default [`readings::DEFAULT_TURN_SIGMA`], calibrated; `turn_sigma`
+    /// is still read) or `"uniform"`. Search time is sensitive to it (one
     /// robot on a 20 x 16 m map with four obstacles: about 1900 s at 0.5,
     /// 2600 s at 1.0, 3700 s at pi/2, 4900 s at pi), so reports should
     /// state it.
@@ -162,7 +163,7 @@ impl Default for LfpParams {
             beta: 1.5,
             scale: 1.0,
             max_step: 20.0,
-            turn: Turn::Uniform,
+            turn: Turn::Sigma(readings::DEFAULT_TURN_SIGMA),
             repel_range: RepelRange::Sonar,
             k_robot: 1.0,
             k_obstacle: 1.0,

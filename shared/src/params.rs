@@ -97,19 +97,21 @@ impl SlotRule {
     }
 }
 
-/// The reading of "one extra move time per collision" (issue 8, 1a).
+/// The reading of "one extra move time per collision" (issue 8, 1a; issue 22, 1).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum RuCollisions {
-    /// Default: robots that collide back off to where they came from (or
-    /// separate to a free adjacent vertex), and the round lasts one extra
-    /// move time if any collision happened: the robots involved pay it
-    /// together, in parallel, and a pair is never charged for standing still.
-    #[default]
+    /// Robots that collide back off to where they came from (or separate to
+    /// a free adjacent vertex), and the round lasts one extra move time if
+    /// any collision happened: the robots involved pay it together, in
+    /// parallel, and a pair is never charged for standing still. The
+    /// project's reading before issue 22; the text mentions no backing off.
     BackOff,
-    /// The former reading: every colliding pair adds one move time to the
-    /// whole team's round, and robots that end on one vertex stay there,
-    /// charged again every round they start stacked.
+    /// Default, the paper's words ("an additional move time ... for each
+    /// collision"): every colliding pair adds one move time to the whole
+    /// team's round, and robots that end on one vertex stay there, charged
+    /// again every round they start stacked.
+    #[default]
     PerPair,
 }
 

@@ -431,7 +431,7 @@ mod tests {
 
     #[test]
     fn the_penalty_is_one_move_time_per_round_under_back_off() {
-        let p = Params::default();
+        let p = Params { ru_collisions: RuCollisions::BackOff, ..Params::default() };
         assert_eq!(p.collision_penalty(0), 0.0);
         assert_eq!(p.collision_penalty(1), p.move_time());
         assert_eq!(p.collision_penalty(5), p.move_time());
@@ -444,7 +444,8 @@ mod tests {
         use crate::outcome::RunConfig;
         use crate::params::Situation;
         use crate::policy::Policy;
-        let s = crate::scenario::Scenario::load("paper").unwrap();
+        let mut s = crate::scenario::Scenario::load("paper").unwrap();
+        s.params.ru_collisions = RuCollisions::BackOff;
         let w = s.world();
         let starts = s.start_vertices(&w, 13).unwrap();
         let mut collided = 0;

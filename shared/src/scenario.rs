@@ -14,7 +14,7 @@
 //! [params]                  # a, r_rob, r_safe default 1.0 / 0.25 / 0.30; r_so, r_st,
 //! a = 1.0                   # r_c default to the equality case of their assumption
 //! r_safe = 0.30             # (Params::derived); t_rot, t_trans, t_choice in seconds
-//! ru_collisions = "back-off" # RU's collisions: back-off (default) | per-pair (RuCollisions)
+//! ru_collisions = "per-pair" # RU's collisions: per-pair (default) | back-off (RuCollisions)
 //! slot = "adaptive"         # what ends a slot: adaptive (default) | fixed (SlotRule)
 //!
 //! [area]                    # required: a simple polygon, corners in either order
@@ -33,7 +33,7 @@
 //!
 //! [lfp]                     # optional constants of the LFP baseline (LfpParams)
 //! beta = 1.5
-//! turn = "uniform"          # or a turn sigma in radians (a correlated walk)
+//! turn = 2.5                # turn sigma in radians (default calibrated) | "uniform"
 //! repel_range = "sonar"     # robots repel within r_so (default) | "radio": r_c
 //! ```
 //!

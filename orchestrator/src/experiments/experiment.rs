@@ -358,7 +358,7 @@ fn short_setup(scenario: &Scenario, opts: &ExperimentOptions, maps: usize) -> St
 /// Start vertices for every robot count, placed before any run: a count the
 /// map cannot hold is an input error, better found before hours of runs than
 /// after. Failing assumptions are warned about once each, with the counts.
-fn place(scenario: &Scenario, world: &World, robots: &[usize]) -> Result<Vec<Vec<VertexId>>> {
+pub fn place(scenario: &Scenario, world: &World, robots: &[usize]) -> Result<Vec<Vec<VertexId>>> {
     let mut starts = Vec::with_capacity(robots.len());
     let mut failing: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     for &r in robots {
@@ -372,6 +372,30 @@ fn place(scenario: &Scenario, world: &World, robots: &[usize]) -> Result<Vec<Vec
         eprintln!("{w} (robots {})", compress(counts));
     }
     Ok(starts)
+}
+
+/// One run of a sweep, kept as numbers only (no poses, no raster pass).
+pub fn record(
+    runner: &Runner,
+    starts: &[VertexId],
+    policy: Policy,
+    seed: u64,
+    situation: Situation,
+    max_rounds: u32,
+) -> RunRecord {
+    let mut cfg = RunConfig::new(policy, seed, situation);
+    cfg.max_rounds = max_rounds;
+    cfg.record_trajectories = false;
+    cfg.measure_coverage = false;
+    let res = runner.run(starts, &cfg);
+    RunRecord {
+        seed,
+        search_time_s: res.search_time_s,
+        rounds: res.rounds,
+        collisions: res.collisions,
+        targets_found: res.targets_found,
+        complete: res.complete,
+    }
 }
 
 /// The sweep's runs in their fixed order: map, then algorithm, then robot
@@ -430,21 +454,9 @@ impl Plan<'_> {
                 // Map 0 keeps the seeds of a one-map sweep; each later map
                 // continues the run index, so no two runs share a seed.
                 let seed = run_seed(opts.seed, self.robots[r], (m * self.runs + k) as u64);
-                let mut cfg = RunConfig::new(self.algorithms[a], seed, situation);
-                cfg.max_rounds = opts.max_rounds;
-                // The sweep keeps numbers only: no poses, no raster pass.
-                cfg.record_trajectories = false;
-                cfg.measure_coverage = false;
-                let res = runners[m].run(&self.starts[m][r], &cfg);
+                let rec = record(&runners[m], &self.starts[m][r], self.algorithms[a], seed, situation, opts.max_rounds);
                 bar.inc(1);
-                RunRecord {
-                    seed,
-                    search_time_s: res.search_time_s,
-                    rounds: res.rounds,
-                    collisions: res.collisions,
-                    targets_found: res.targets_found,
-                    complete: res.complete,
-                }
+                rec
             })
             .collect();
         bar.finish_and_clear();
@@ -474,7 +486,7 @@ impl Plan<'_> {
 
 /// Incomplete runs hit the round limit and are left out of the means, which
 /// biases them down; say where that happened.
-fn incomplete_note(cells: &[CellStats], max_rounds: u32) -> String {
+pub fn incomplete_note(cells: &[CellStats], max_rounds: u32) -> String {
     let short: Vec<String> = cells
         .iter()
         .filter(|c| c.completed_runs < c.runs)

@@ -3,7 +3,8 @@
 //! comparison (`grids`), the paper's claims, and the pieces they share:
 //! running jobs on either engine (`sweep`), reading a run's figures
 //! (`tally`), statistics, seeds, the maps a sweep runs on (`maps`), and how
-//! much a sweep depends on the paper's readings (`sensitivity`).
+//! much a sweep depends on the paper's readings (`sensitivity`), and the
+//! claims re-evaluated over a grid of those readings (`readings`).
 
 pub mod claims;
 pub mod experiment;
@@ -11,6 +12,7 @@ pub mod failures;
 pub mod grids;
 pub mod maps;
 pub mod radio;
+pub mod readings;
 pub mod scale;
 pub mod seeds;
 pub mod sensitivity;

@@ -3,6 +3,9 @@
 //! each baseline in the sweep whose reading is switchable, the first runs of
 //! every robot count again under the other reading, paired with the same
 //! runs under the scenario's own. Shown in report.html next to the results.
+//! It changes one reading at a time on a few runs and judges no claim:
+//! `experiment readings` ([`crate::readings`]) re-evaluates the claims over
+//! a grid of readings at full size.
 
 use gridswarm::grid::VertexId;
 use gridswarm::lfp::{RepelRange, Turn};
@@ -25,7 +28,7 @@ pub const RUNS: usize = 20;
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
     pub algorithm: Policy,
-    /// The alternative, as the scenario would set it (`ru_collisions = "per-pair"`).
+    /// The alternative, as the scenario would set it (`ru_collisions = "back-off"`).
     pub reading: &'static str,
     pub robots: usize,
     pub runs: usize,
@@ -43,12 +46,18 @@ struct Alternative {
     apply: fn(&mut Scenario),
 }
 
-const ALTERNATIVES: [Alternative; 3] = [
+const ALTERNATIVES: [Alternative; 5] = [
+    Alternative {
+        algorithm: Policy::Ru,
+        reading: "ru_collisions = \"back-off\"",
+        apply: |s| s.params.ru_collisions = RuCollisions::BackOff,
+    },
     Alternative {
         algorithm: Policy::Ru,
         reading: "ru_collisions = \"per-pair\"",
         apply: |s| s.params.ru_collisions = RuCollisions::PerPair,
     },
+    Alternative { algorithm: Policy::Lfp, reading: "turn = \"uniform\"", apply: |s| s.lfp.turn = Turn::Uniform },
     Alternative { algorithm: Policy::Lfp, reading: "turn = 0.5", apply: |s| s.lfp.turn = Turn::Sigma(0.5) },
     Alternative {
         algorithm: Policy::Lfp,

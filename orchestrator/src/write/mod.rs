@@ -3,6 +3,7 @@
 //! the report pages. They own files; they never decide anything.
 
 pub mod figures;
+pub mod heatmap;
 pub mod output;
 pub mod panels;
 pub mod plot;

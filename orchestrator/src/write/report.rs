@@ -131,7 +131,7 @@ pre { background: #f7f7f4; border: 1px solid #eee; padding: 8px 10px; font-size:
 .claim.not_evaluated { border-left-color: #aaa; }
 .claim .head { font-weight: 600; }
 .verdict { display: inline-block; font-size: 12px; font-weight: 700; padding: 1px 8px; border-radius: 10px; margin-left: 6px; color: #fff; }
-.holds .verdict { background: #2ca02c; } .fails .verdict { background: #d62728; } .not_evaluated .verdict { background: #999; }
+.holds .verdict { background: #2ca02c; } .fails .verdict { background: #d62728; } .not_evaluated .verdict { background: #999; } .undecided .verdict { background: #e6a100; }
 .claim .criterion { font-size: 13px; color: #555; margin: 4px 0; }
 .claim ul { margin: 4px 0 0; padding-left: 18px; font-size: 13px; }
 .claim li { font-family: ui-monospace, Menlo, Consolas, monospace; font-size: 12px; }
@@ -211,6 +211,7 @@ fn render_block(s: &mut String, b: &Block) {
                 let class = match c.verdict {
                     Verdict::Holds => "holds",
                     Verdict::Fails => "fails",
+                    Verdict::Undecided => "undecided",
                     Verdict::NotEvaluated => "not_evaluated",
                 };
                 let _ = writeln!(

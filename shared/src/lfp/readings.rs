@@ -8,17 +8,25 @@ use serde::de::{self, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// How the heading of each flight after the first is drawn (`[lfp] turn`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// The default is [`DEFAULT_TURN_SIGMA`] ([`crate::lfp::LfpParams`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Turn {
-    /// `turn = "uniform"` (default): uniform in `[0, 2 pi)`, independent of
-    /// the last flight, as a Levy flight draws directions.
-    #[default]
+    /// `turn = "uniform"`: uniform in `[0, 2 pi)`, independent of the last
+    /// flight, as a Levy flight in the abstract draws directions; the
+    /// project's reading before issue 22.
     Uniform,
-    /// `turn = 0.5`: the last heading plus `N(0, sigma)` (rad), a correlated
-    /// walk that keeps going the same way for about `2 / sigma^2` flights.
-    /// The project's former default, 0.5, made LFP beat RU at every count.
+    /// `turn = SIGMA`: the last heading plus `N(0, sigma)` (rad), the
+    /// paper's "normal distribution to generate rotation angle"; a
+    /// correlated walk that keeps going the same way for about
+    /// `2 / sigma^2` flights.
     Sigma(f64),
 }
+
+/// The default turn sigma (rad). The paper says the turn angle is normal
+/// and not how wide: the value is calibrated, the σ of `gridswarm
+/// experiment readings`' grid at which the paper's claims hold
+/// (docs/paper.md "LFP: how a flight turns" gives the rule and the run).
+pub const DEFAULT_TURN_SIGMA: f64 = 2.5;
 
 impl Serialize for Turn {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {

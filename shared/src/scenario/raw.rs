@@ -641,10 +641,11 @@ mod tests {
     #[test]
     fn readings_default_to_the_papers_and_switch_by_name() {
         let s = parse("").unwrap();
-        assert_eq!(s.params.ru_collisions, RuCollisions::BackOff);
-        assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Uniform, RepelRange::Sonar));
-        let s = parse("[params]\nru_collisions = \"per-pair\"\n[lfp]\nturn = 0.5\nrepel_range = \"radio\"\n").unwrap();
         assert_eq!(s.params.ru_collisions, RuCollisions::PerPair);
+        let sigma = crate::lfp::DEFAULT_TURN_SIGMA;
+        assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(sigma), RepelRange::Sonar));
+        let s = parse("[params]\nru_collisions = \"back-off\"\n[lfp]\nturn = 0.5\nrepel_range = \"radio\"\n").unwrap();
+        assert_eq!(s.params.ru_collisions, RuCollisions::BackOff);
         assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(0.5), RepelRange::Radio));
         assert_eq!(parse("[lfp]\nturn_sigma = 1\n").unwrap().lfp.turn, Turn::Sigma(1.0));
     }
