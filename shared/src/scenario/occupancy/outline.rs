@@ -237,7 +237,7 @@ fn close_pinches(cells: &mut Cells) -> usize {
 fn trace(cells: &Cells, members: &[usize], inside: impl Fn(usize) -> bool) -> Result<Vec<(usize, usize)>, String> {
     let w = cells.w;
     // Each boundary edge, region on its left, by its start point.
-    let mut next = std::collections::HashMap::with_capacity(members.len());
+    let mut next = std::collections::HashMap::new();
     for &c in members {
         let (i, j) = (c % w, c / w);
         for (n, from, to) in [
