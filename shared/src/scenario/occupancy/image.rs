@@ -227,7 +227,8 @@ mod tests {
         assert_eq!(decode(p2, &m).unwrap().cells, [Free, Occupied, Unknown]);
         let wide = [b"P5 2 1 65535\n".as_slice(), &[0xff, 0xff, 0, 0]].concat();
         assert_eq!(decode(&wide, &m).unwrap().cells, [Free, Occupied]);
-        assert_eq!(decode(&p5, &meta(Mode::Trinary, true)).unwrap().cells, [Occupied, Free, Unknown]);
+        // Negated, white is occupied, and map_saver's unknown grey too.
+        assert_eq!(decode(&p5, &meta(Mode::Trinary, true)).unwrap().cells, [Occupied, Free, Occupied]);
         // Raw: the value is the occupancy in percent.
         let raw = [b"P5 3 1 255\n".as_slice(), &[0, 100, 255]].concat();
         assert_eq!(decode(&raw, &meta(Mode::Raw, false)).unwrap().cells, [Free, Occupied, Unknown]);
