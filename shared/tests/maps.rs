@@ -391,3 +391,28 @@ fn the_turtlebot3_world_map_reads_checks_and_is_searched() {
     let r = engine::run(&world, &starts, &cfg);
     assert!(r.complete && r.collisions == 0 && r.targets_found == 3, "{r:?}");
 }
+
+#[test]
+fn a_map_is_read_coarser_only_while_its_free_region_survives() {
+    // Specks `gap` pixels apart: more obstacles than MAX_OBSTACLES in
+    // cells of one pixel. Three apart, cells of two merge them four by
+    // four and keep free lanes between; two apart, every such cell holds
+    // a speck: nothing free is left, and the map is refused, not grown.
+    let dir = folder("grow");
+    let n = 450;
+    let specks = |gap: usize| -> Vec<u8> {
+        (0..n * n).map(|k| if (k % n) % gap == 0 && (k / n) % gap == 0 { WALL } else { FREE }).collect()
+    };
+    let path = write_office(&dir, &pgm(n, n, &specks(3)), Some("[map]\nsliver = 0\n"));
+    let (s, notes) = Scenario::load_noted(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        notes[1].contains("read in cells of 0.2 m (2 x 2 pixels") && notes[1].contains("grown from 0.1 m"),
+        "{notes:?}"
+    );
+    assert!(s.obstacles.len() < 20_000);
+    std::fs::write(dir.join("office.pgm"), pgm(n, n, &specks(2))).unwrap();
+    let e = Scenario::load(&path).unwrap_err().to_string();
+    assert!(e.contains("office.yaml: image: `") && e.contains("is above the limit MAX_"), "{e}");
+    assert!(e.contains("in cells of 0.2 m it would lose most of its free region"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

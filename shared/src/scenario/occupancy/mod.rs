@@ -152,8 +152,9 @@ impl Sizes {
 }
 
 /// The image read in cells of `first` pixels, or twice as many as often as
-/// the outline breaks a limit while a cell stays within a grid side: the
-/// pixels per cell, the outline, and the limit that made it grow.
+/// the outline breaks a limit while a cell stays within a grid side and
+/// the free region keeps at least [`KEPT_WHEN_GROWN`] of its first area:
+/// the pixels per cell, the outline, and the limit that made it grow.
 fn read_cells(
     raster: &image::Raster,
     frame: Frame,
@@ -162,26 +163,40 @@ fn read_cells(
     sizes: Sizes,
 ) -> Result<(usize, Outline, Option<String>), String> {
     let (mut k, a) = (first, sizes.a);
-    let mut grown = None;
+    let area = |k: usize, map: &Outline| map.free_cells as f64 * (k * k) as f64;
+    let mut grown: Option<(String, f64)> = None;
     loop {
         let sliver = sizes.sliver(k as f64 * frame.resolution);
-        let map = outline::outline(raster, frame, k, sliver, unknown_free)?;
+        let cell = k as f64 * frame.resolution;
+        let map = outline::outline(raster, frame, k, sliver, unknown_free);
+        if let Some((why, before)) = &grown {
+            // Coarse cells block every cell a wall pixel or speck touches:
+            // a building's doors close and its rooms become pockets.
+            if map.as_ref().map_or(true, |m| area(k, m) < KEPT_WHEN_GROWN * before) {
+                let first = first as f64 * frame.resolution;
+                return Err(format!(
+                    "read in cells of {first} m: {why}; in cells of {cell} m it would lose most of its free \
+                     region, so it is not grown: crop the image, or choose `[map] cell` in the sidecar"
+                ));
+            }
+        }
+        let map = map?;
         let Err(why) = fits(&map, a, sizes.r_safe) else {
-            return Ok((k, map, grown));
+            return Ok((k, map, grown.map(|(why, _)| why)));
         };
         let larger = 2 * k;
-        if larger as f64 * frame.resolution > a.max(k as f64 * frame.resolution)
-            || larger > raster.width.max(raster.height)
-        {
-            let cell = k as f64 * frame.resolution;
+        if larger as f64 * frame.resolution > a.max(cell) || larger > raster.width.max(raster.height) {
             return Err(format!(
                 "read in cells of {cell} m: {why}, and larger cells would pass the grid side a = {a} m"
             ));
         }
-        grown = Some(why);
+        grown = Some(grown.unwrap_or_else(|| (why, area(k, &map))));
         k = larger;
     }
 }
+
+/// The share of the first reading's free area a grown reading must keep.
+const KEPT_WHEN_GROWN: f64 = 0.5;
 
 /// Whether an outline fits the scenario limits that the cell size drives.
 fn fits(map: &Outline, a: f64, r_safe: f64) -> Result<(), String> {
