@@ -14,9 +14,14 @@ pub use gridswarm::assumptions::{Check, Report};
 
 use crate::error::{Error, Result};
 
-/// A built-in scenario by name, or a TOML file by path.
+/// A built-in scenario by name, or a TOML file or a map by path.
 pub fn load_scenario(name_or_path: &str) -> Result<Scenario> {
     Scenario::load(name_or_path).map_err(|e| Error::Scenario(e.to_string()))
+}
+
+/// [`load_scenario`], and how reading a map changed it (`check` says so).
+pub fn load_scenario_noted(name_or_path: &str) -> Result<(Scenario, Vec<String>)> {
+    Scenario::load_noted(name_or_path).map_err(|e| Error::Scenario(e.to_string()))
 }
 
 /// The start vertices of `robots` robots in `world`, robot `k` at index `k`.

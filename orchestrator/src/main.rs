@@ -156,8 +156,9 @@ enum Command {
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     ///
-    /// Every command's --scenario takes a built-in name, a TOML file, or a random map,
-    /// generated from its seed alone (the same text gives the same map everywhere):
+    /// Every command's --scenario takes a built-in name, a TOML file, a ROS map_server map
+    /// (NAME.yaml with its image; docs/scenario-format.md), or a random map, generated from
+    /// its seed alone (the same text gives the same map everywhere):
     ///
     ///   random:SEED[,size=WxH][,density=F][,passage=M][,targets=N][,robots=N][,break=ID]
     ///
@@ -173,7 +174,7 @@ enum Command {
     /// e.g. `gridswarm check random:5` or `random:7,size=30x20,density=0.2,break=3.1.2`.
     #[command(verbatim_doc_comment)]
     Check {
-        /// Built-in scenario, TOML file or random:SEED[,options].
+        /// Built-in scenario, TOML file, map (NAME.yaml) or random:SEED[,options].
         #[arg(default_value = "paper")]
         scenario: String,
     },
@@ -181,6 +182,30 @@ enum Command {
     /// an authority, the world's, one per robot (README: "Running on
     /// several machines").
     Credentials(gridswarm_orchestrator::cli::credentials::CredentialsArgs),
+    /// Write a scenario (built-in, TOML file, map or random:SEED,...) as a scenario file
+    /// (--format toml) or as a ROS map_server map (--format yaml: NAME.yaml, NAME.pgm and
+    /// NAME.gridswarm.toml with the targets, starts and parameters); lists the files written.
+    ExportMap {
+        /// Built-in scenario, TOML file, map (NAME.yaml) or random:SEED[,options].
+        scenario: String,
+        #[arg(long, value_enum)]
+        format: gridswarm_orchestrator::cli::export::MapFormat,
+        /// The file to write (for yaml, the .yaml; the others go beside it) [default: NAME.yaml
+        /// or NAME.toml in the current folder, NAME from the scenario's name].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Pixel side of the map's image, m [default: a / 10].
+        #[arg(long, value_parser = positive_length)]
+        resolution: Option<f64>,
+    },
+}
+
+/// A length > 0 (m) from the command line.
+fn positive_length(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}` is not a length > 0 (m)")),
+    }
 }
 
 /// The protocol experiments (`gridswarm experiment KIND`).
@@ -372,8 +397,8 @@ impl ProtocolArgs {
 /// The map a command searches.
 #[derive(clap::Args, Debug)]
 struct ScenarioArg {
-    /// Built-in scenario (paper, open, cave, large, small), a TOML file, or a random map
-    /// random:SEED[,options] (see `gridswarm check --help`).
+    /// Built-in scenario (paper, open, cave, large, small), a TOML file, a ROS map_server map
+    /// (NAME.yaml), or a random map random:SEED[,options] (see `gridswarm check --help`).
     #[arg(long, default_value = "paper")]
     scenario: String,
 }
@@ -528,6 +553,10 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             return Ok(finished(complete));
         }
         Command::Credentials(args) => emit(&gridswarm_orchestrator::cli::credentials::run(&args)?),
+        Command::ExportMap { scenario, format, out, resolution } => {
+            let opts = gridswarm_orchestrator::cli::export::ExportOptions { scenario, format, out, resolution };
+            emit(&gridswarm_orchestrator::cli::export::export(&opts)?);
+        }
         Command::Check { scenario } => {
             let outcome = check::check(&scenario)?;
             emit(&outcome.text);

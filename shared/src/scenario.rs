@@ -49,20 +49,22 @@
 //! [`crate::assumptions::check`] says which fail.
 //!
 //! Besides files and built-ins, `random:SEED[,options]` names a map
-//! generated from the seed ([`random`]); [`Scenario::to_toml`] writes any
-//! scenario back in this format.
+//! generated from the seed ([`random`]), and `NAME.yaml` a ROS map_server
+//! occupancy grid ([`occupancy`]); [`Scenario::to_toml`] writes any
+//! scenario back in this format, [`occupancy::write_map`] as a map.
 
 mod file;
 mod gaps;
 pub mod limits;
 mod locate;
+pub mod occupancy;
 mod pairs;
 pub mod random;
 mod raw;
 mod starts;
 mod write;
 
-pub use file::MAX_FILE_BYTES;
+pub use file::{MAX_FILE_BYTES, MAX_IMAGE_BYTES};
 pub(crate) use gaps::{boundary_gap_of, self_passages, shape_gap, Gap};
 pub(crate) use pairs::near as near_pairs;
 
@@ -204,11 +206,20 @@ impl Scenario {
     /// A built-in scenario by name, a random map (`random:SEED[,options]`,
     /// see [`random`]), else a scenario file by path.
     pub fn load(name_or_path: &str) -> Result<Scenario, ScenarioError> {
+        Scenario::load_noted(name_or_path).map(|(s, _)| s)
+    }
+
+    /// [`Scenario::load`], and for a map (`NAME.yaml`, [`occupancy`]) how
+    /// reading it changed it, one line each (none for other scenarios).
+    pub fn load_noted(name_or_path: &str) -> Result<(Scenario, Vec<String>), ScenarioError> {
         if let Some(s) = Scenario::builtin(name_or_path) {
-            return Ok(s);
+            return Ok((s, Vec::new()));
         }
         if random::is_random(name_or_path) {
-            return random::load(name_or_path);
+            return random::load(name_or_path).map(|s| (s, Vec::new()));
+        }
+        if occupancy::is_map(name_or_path) {
+            return occupancy::load(name_or_path).map(|c| (c.scenario, c.notes));
         }
         let text = file::read(name_or_path).map_err(|e| {
             ScenarioError::new(
@@ -222,7 +233,7 @@ impl Scenario {
                 ),
             )
         })?;
-        Scenario::parse(&text, name_or_path)
+        Scenario::parse(&text, name_or_path).map(|s| (s, Vec::new()))
     }
 
     /// Start vertices for `robots` robots on `world` (which must be this

@@ -211,6 +211,8 @@ fn the_scenario_reference_lists_every_limit_with_its_value() {
         ("MAX_MICRO_STEPS", limits::MAX_MICRO_STEPS as usize),
         ("AREA_CORNER_WEIGHT", limits::AREA_CORNER_WEIGHT),
         ("MAX_FILE_BYTES", gridswarm::scenario::MAX_FILE_BYTES as usize),
+        ("MAX_IMAGE_BYTES", gridswarm::scenario::MAX_IMAGE_BYTES as usize),
+        ("MAX_IMAGE_PIXELS", gridswarm::scenario::occupancy::MAX_IMAGE_PIXELS),
     ];
     let rows =
         floats.iter().map(|(n, v)| (*n, limits::show(*v))).chain(counts.iter().map(|(n, v)| (*n, v.to_string())));

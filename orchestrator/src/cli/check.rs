@@ -1,5 +1,6 @@
 //! `gridswarm check`: loads a scenario, places its robots and reports which
-//! of the paper's assumptions hold on it. Also the warning the other
+//! of the paper's assumptions hold on it (and, for a map, how reading it
+//! changed it). Also the warning the other
 //! subcommands print when they run a scenario that breaks an assumption
 //! (docs/paper.md: such a scenario may run, but the tool must say so).
 
@@ -26,7 +27,7 @@ impl CheckOutcome {
 }
 
 pub fn check(scenario_name: &str) -> Result<CheckOutcome> {
-    let scenario = contract::load_scenario(scenario_name)?;
+    let (scenario, notes) = contract::load_scenario_noted(scenario_name)?;
     let world = scenario.world();
     let starts = contract::start_vertices(&scenario, &world, scenario.robots)?;
     let report = contract::check_assumptions(&scenario, &world, &starts);
@@ -56,6 +57,12 @@ pub fn check(scenario_name: &str) -> Result<CheckOutcome> {
         world.accessible_vertices().count(),
         va
     );
+    if !notes.is_empty() {
+        let _ = writeln!(text, "map {}, as read:", crate::output::shown(scenario_name));
+        for n in &notes {
+            let _ = writeln!(text, "  {n}");
+        }
+    }
     let _ = writeln!(text, "assumptions:");
     let _ = write!(text, "{report}");
     for c in report.failures() {

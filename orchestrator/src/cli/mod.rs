@@ -1,11 +1,12 @@
 //! The command line's own work: the fault and radio flags shared by
 //! `simulate` and `run`, robot-count lists, and the commands that are one
-//! in-process call (`simulate`, `check`), and `credentials`. `main.rs`
-//! parses and dispatches.
+//! in-process call (`simulate`, `check`, `export-map`), and `credentials`.
+//! `main.rs` parses and dispatches.
 
 pub mod agents;
 pub mod check;
 pub mod credentials;
+pub mod export;
 pub mod faults;
 pub mod robots;
 pub mod simulate;

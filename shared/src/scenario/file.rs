@@ -11,38 +11,45 @@ use std::os::unix::fs::OpenOptionsExt;
 /// behind admission is bounded for a file of this size (docs/scenario-format.md).
 pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
+/// The largest map image read (64 MB): a 4096 x 4096 PGM is 16 MB, its
+/// plain (P2) form up to 4 bytes a pixel; the pixels themselves are
+/// bounded by `occupancy::MAX_IMAGE_PIXELS` before any is stored.
+pub const MAX_IMAGE_BYTES: u64 = 64 << 20;
+
 /// Why a file could not be read, as the tail of the error's message.
 pub(crate) fn read(path: &str) -> Result<String, String> {
+    let bytes = read_bytes(path, "scenario file", MAX_FILE_BYTES, "MAX_FILE_BYTES")?;
+    String::from_utf8(bytes).map_err(|e| format!("cannot read scenario file: not UTF-8 text ({e})"))
+}
+
+/// At most `max` bytes of the regular file `path` (`what` and the limit's
+/// `name` for the message), or why not.
+pub(crate) fn read_bytes(path: &str, what: &str, max: u64, name: &str) -> Result<Vec<u8>, String> {
     // O_NONBLOCK: opening a FIFO with no writer returns at once instead
     // of waiting for one; the type is then checked on what was opened, so
     // the file cannot be swapped between a check and the open.
-    let file = std::fs::OpenOptions::new()
-        .read(true)
-        .custom_flags(libc::O_NONBLOCK)
-        .open(path)
-        .map_err(|e| format!("cannot read scenario file: {e}"))?;
-    let meta = file.metadata().map_err(|e| format!("cannot read scenario file: {e}"))?;
+    let cannot = |e: &dyn std::fmt::Display| format!("cannot read {what}: {e}");
+    let file =
+        std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK).open(path).map_err(|e| cannot(&e))?;
+    let meta = file.metadata().map_err(|e| cannot(&e))?;
     if !meta.is_file() {
-        return Err(format!("cannot read scenario file: it is {}, not a regular file", kind(&meta)));
+        return Err(cannot(&format!("it is {}, not a regular file", kind(&meta))));
     }
-    if meta.len() > MAX_FILE_BYTES {
+    let too_big = |len: &str| cannot(&format!("it is {len} bytes, above the limit {name} = {max} bytes ({})", mb(max)));
+    if meta.len() > max {
         return Err(too_big(&meta.len().to_string()));
     }
     let mut bytes = Vec::with_capacity(meta.len() as usize);
     // A file that grows after the stat is still cut at the limit.
-    (&file).take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes).map_err(|e| format!("cannot read scenario file: {e}"))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
+    (&file).take(max + 1).read_to_end(&mut bytes).map_err(|e| cannot(&e))?;
+    if bytes.len() as u64 > max {
         return Err(too_big("by now more than that"));
     }
-    drop(file);
-    String::from_utf8(bytes).map_err(|e| format!("cannot read scenario file: not UTF-8 text ({e})"))
+    Ok(bytes)
 }
 
-fn too_big(len: &str) -> String {
-    format!(
-        "cannot read scenario file: it is {len} bytes, above the limit MAX_FILE_BYTES = {MAX_FILE_BYTES} \
-         bytes (1 MB)"
-    )
+fn mb(bytes: u64) -> String {
+    format!("{} MB", bytes >> 20)
 }
 
 fn kind(meta: &std::fs::Metadata) -> &'static str {

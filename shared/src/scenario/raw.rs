@@ -132,6 +132,79 @@ struct RawBorder {
     from: Xy,
 }
 
+/// A map's sidecar (`NAME.gridswarm.toml` beside `NAME.yaml`): a scenario
+/// file without `[area]` and `[[obstacles]]`, which come from the map's
+/// image, and with a `[map]` table of its own (`super::occupancy`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSidecar {
+    name: Option<String>,
+    robots: Option<usize>,
+    situation: Option<u8>,
+    grid: Option<LatticeKind>,
+    #[serde(default)]
+    targets: Vec<Xy>,
+    #[serde(default)]
+    params: RawParams,
+    starts: Option<RawStarts>,
+    #[serde(default)]
+    lfp: LfpParams,
+    #[serde(default)]
+    pub map: RawMapOptions,
+}
+
+/// How a map's image is read (`[map]` in its sidecar).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMapOptions {
+    /// Side of the cells the image is read in (m), rounded to whole pixels.
+    pub cell: Option<f64>,
+    /// How unknown pixels are read: "blocked" (default) or "free".
+    pub unknown: Option<String>,
+    /// Free parts narrower than this (m) are blocked (default 2 r_rob).
+    pub sliver: Option<f64>,
+}
+
+impl RawSidecar {
+    /// Reads a sidecar's text (`ctx.text`).
+    pub fn parse(ctx: &Ctx) -> Result<RawSidecar, ScenarioError> {
+        toml::from_str(ctx.text).map_err(|e| ctx.toml_error(&e))
+    }
+
+    /// The grid side, robot and safety radius it asks for, as written (unchecked).
+    pub fn sizes(&self) -> (Option<f64>, Option<f64>, Option<f64>) {
+        (self.params.a, self.params.r_rob, self.params.r_safe)
+    }
+
+    /// The scenario of this sidecar on the map's area and obstacles, named
+    /// `name` unless the sidecar names it, checked as a scenario file is.
+    pub fn into_scenario(
+        self,
+        ctx: &Ctx,
+        name: &str,
+        area: &[(f64, f64)],
+        obstacles: &[Vec<(f64, f64)>],
+    ) -> Result<Scenario, ScenarioError> {
+        let xy = |pts: &[(f64, f64)]| -> Vec<Xy> { pts.iter().map(|&(x, y)| Xy([x, y])).collect() };
+        let raw = RawScenario {
+            name: Some(self.name.unwrap_or_else(|| name.to_string())),
+            robots: self.robots,
+            situation: self.situation,
+            grid: self.grid,
+            targets: self.targets,
+            params: self.params,
+            area: RawArea { polygon: xy(area) },
+            obstacles: obstacles
+                .iter()
+                .map(|o| RawObstacle { polygon: Some(xy(o)), circle: None, rect: None })
+                .collect(),
+            starts: self.starts,
+            lfp: self.lfp,
+        };
+        raw.into_scenario(ctx)
+    }
+}
+
 /// The text being parsed, for turning field paths into positions.
 pub(crate) struct Ctx<'a> {
     pub text: &'a str,

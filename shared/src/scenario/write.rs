@@ -25,6 +25,16 @@ fn quoted(s: &str) -> String {
 impl Scenario {
     /// This scenario as a scenario file; `header` lines become comments on top.
     pub fn to_toml(&self, header: &str) -> String {
+        self.write_toml(header, true)
+    }
+
+    /// This scenario as a map's sidecar: the scenario file without its
+    /// area and obstacles, which the map's image holds.
+    pub fn to_sidecar(&self, header: &str) -> String {
+        self.write_toml(header, false)
+    }
+
+    fn write_toml(&self, header: &str, geometry: bool) -> String {
         let mut s = String::new();
         for line in header.lines() {
             let _ = writeln!(s, "# {line}");
@@ -53,13 +63,16 @@ impl Scenario {
             let _ = writeln!(s, "{k} = {v:?}");
         }
         let _ = writeln!(s, "retries = {}\nsuspect_rounds = {}", p.retries, p.suspect_rounds);
-        let _ = writeln!(s, "\n[area]\npolygon = [{}]", list(&self.area.points));
-        for o in &self.obstacles {
-            let _ = writeln!(s, "\n[[obstacles]]");
-            let _ = match o {
-                Shape::Polygon(poly) => writeln!(s, "polygon = [{}]", list(&poly.points)),
-                Shape::Circle(c) => writeln!(s, "circle = {{ center = {}, radius = {:?} }}", xy(&c.center), c.radius),
-            };
+        // The readings too: a scenario written back must run the same.
+        let _ = writeln!(s, "choices_update_maps = {}", p.choices_update_maps);
+        let _ = writeln!(s, "ru_collisions = {}", quoted(p.ru_collisions.name()));
+        // Only when not the default, so that every scenario of the adaptive
+        // rule keeps the hash it had before there was a rule to choose.
+        if p.slot != crate::params::SlotRule::Adaptive {
+            let _ = writeln!(s, "slot = {}", quoted(p.slot.name()));
+        }
+        if geometry {
+            self.write_geometry(&mut s);
         }
         let _ = match &self.starts {
             Starts::Border { from } => {
@@ -72,5 +85,16 @@ impl Scenario {
             let _ = write!(s, "\n[lfp]\n{table}");
         }
         s
+    }
+
+    fn write_geometry(&self, s: &mut String) {
+        let _ = writeln!(s, "\n[area]\npolygon = [{}]", list(&self.area.points));
+        for o in &self.obstacles {
+            let _ = writeln!(s, "\n[[obstacles]]");
+            let _ = match o {
+                Shape::Polygon(poly) => writeln!(s, "polygon = [{}]", list(&poly.points)),
+                Shape::Circle(c) => writeln!(s, "circle = {{ center = {}, radius = {:?} }}", xy(&c.center), c.radius),
+            };
+        }
     }
 }
