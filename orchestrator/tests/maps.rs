@@ -97,6 +97,9 @@ fn maps_write_the_map_column_and_the_spread() {
         serde_json::from_str(&fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["per_map_spread"].as_array().unwrap().len(), 4);
     assert_eq!(summary["per_map_spread"][0]["maps"], 3);
+    // How the robots were reached, as every run's summary says it.
+    assert_eq!(summary["transport"]["name"], "in-process");
+    assert_eq!(summary["transport"]["security"]["mode"], "local");
 }
 
 #[test]

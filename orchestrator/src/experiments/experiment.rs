@@ -245,6 +245,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             "seed_derivation": "run k with N robots has seed derive(derive(seed, N), k) with gridswarm::rng::derive, \
                 the same for every algorithm (common random numbers: claims compare runs pairwise)",
             "max_rounds": opts.max_rounds,
+            "transport": super::sweep::Engine::InProcess.transport(),
             "params": scenario.params,
             "lfp": lfp,
             "statistics": "mean, std (n-1), ci95 = 1.96 std / sqrt(n), median, rounds and collisions over completed \

@@ -272,6 +272,7 @@ impl Page<'_> {
             "crash_times": format!("rounds 1 to {}, at an offset below {} s into the round", schedule::RANDOM_ROUNDS, schedule::RANDOM_OFFSET_S),
             "max_rounds": o.protocol.max_rounds,
             "engine": o.protocol.engine.describe(),
+            "transport": o.protocol.engine.transport(),
             "statistics": "search time (mean ± 1.96 std/sqrt(n)) and rounds over completed runs; counts are means per \
                 run over all runs; collisions per 10^6 moves pool every run; detection delay over every detected \
                 crash (rounds, and simulated s after the crash)",

@@ -311,6 +311,7 @@ impl Page<'_> {
             ),
             "max_rounds": o.protocol.max_rounds,
             "engine": o.protocol.engine.describe(),
+            "transport": o.protocol.engine.transport(),
             "statistics": "search time (mean ± 1.96 std/sqrt(n)) over completed runs; counts are means per run over \
                 all runs; collisions per 10^6 moves pool every run's collisions and moves",
             "params": self.scenario.params,

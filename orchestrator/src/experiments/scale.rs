@@ -484,6 +484,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         "situation": opts.situation.map(|s| s.number().to_string()).unwrap_or_else(|| "the scenario's".into()),
         "max_rounds": opts.max_rounds,
         "cores": threads,
+        "transport": super::sweep::Engine::Distributed.transport(),
         "distributed": "one world-server and one robot-agent process per robot over iceoryx2; round wall time \
             p50/p99 over the rounds of a run, as the world-server measures it; peak RSS from /proc",
         "in_process": format!(

@@ -48,6 +48,21 @@ impl Engine {
             Engine::Distributed => "distributed: one world-server and one robot-agent process per robot over iceoryx2",
         }
     }
+
+    /// The `transport` of a summary, as `simulate` and `run` write it: how
+    /// the robots of its runs were reached.
+    pub fn transport(self) -> serde_json::Value {
+        let name = match self {
+            Engine::InProcess => "in-process",
+            Engine::Distributed => "iceoryx2",
+        };
+        serde_json::json!({
+            "name": name,
+            "endpoints": [],
+            "remote_agents": false,
+            "security": crate::run::security(None),
+        })
+    }
 }
 
 /// What the protocol experiments take besides their own axes (the number
