@@ -197,8 +197,9 @@ mod tests {
         ] {
             assert!(d.contains(want), "{want} in {d}");
         }
-        agent.protocol = 3;
-        assert_eq!(world.differences(&agent), ["protocol version: world 2, agent 3"]);
+        agent.protocol = PROTOCOL_VERSION + 1;
+        let want = format!("protocol version: world {PROTOCOL_VERSION}, agent {}", PROTOCOL_VERSION + 1);
+        assert_eq!(world.differences(&agent), [want]);
     }
 
     #[test]
