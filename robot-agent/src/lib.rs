@@ -126,7 +126,7 @@ struct Args {
     #[arg(long)]
     retries: Option<u32>,
     /// Without --setup: overrides the scenario's slot rule (adaptive or fixed).
-    #[arg(long, value_parser = parse_slot)]
+    #[arg(long)]
     slot: Option<SlotRule>,
     /// Quiet time after which the world's liveness is checked, ms.
     #[arg(long, default_value_t = 500)]
@@ -463,10 +463,6 @@ impl AgentTransport for Iceoryx2 {
 pub struct Overrides {
     pub retries: Option<u32>,
     pub slot: Option<SlotRule>,
-}
-
-fn parse_slot(s: &str) -> Result<SlotRule, String> {
-    SlotRule::from_name(s).ok_or_else(|| format!("`{s}`: one of {}", SlotRule::NAMES.join(", ")))
 }
 
 /// The setup the orchestrator writes for robot `robot` of a run of

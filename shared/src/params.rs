@@ -97,6 +97,15 @@ impl SlotRule {
     }
 }
 
+/// A command-line value (`--slot`), one parser for every program.
+impl std::str::FromStr for SlotRule {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        SlotRule::from_name(s).ok_or_else(|| format!("`{s}`: one of {}", SlotRule::NAMES.join(", ")))
+    }
+}
+
 /// The reading of "one extra move time per collision" (issue 8, 1a; issue 22, 1).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]

@@ -61,12 +61,8 @@ pub struct FaultFlags {
     pub dup: f64,
     /// What ends a slot: `adaptive` (the world, once every robot has
     /// commanded) or `fixed` (the robots' clocks) [default: the scenario's params.slot].
-    #[arg(long, value_name = "RULE", value_parser = parse_slot)]
+    #[arg(long, value_name = "RULE")]
     pub slot: Option<SlotRule>,
-}
-
-fn parse_slot(s: &str) -> std::result::Result<SlotRule, String> {
-    SlotRule::from_name(s).ok_or_else(|| format!("`{s}`: one of {}", SlotRule::NAMES.join(", ")))
 }
 
 /// What the flags ask for, independent of clap.
