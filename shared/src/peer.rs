@@ -144,6 +144,8 @@ struct Heard {
     id: RobotId,
     at: VertexId,
     map: bool,
+    /// When it sensed, from its map (`Time::MAX` before its map is heard).
+    sent: Time,
     halted: bool,
     choice: Option<VertexId>,
     /// Its choice avoided this robot's.
@@ -200,7 +202,10 @@ pub struct Peer<'g> {
     widen: Time,
     /// When it sensed this slot (its first wake-up of the slot).
     sensed_at: Time,
-    /// It sensed after its exchange window ended: it stays this slot.
+    /// It sensed after its exchange window's nominal end.
+    sensed_late: bool,
+    /// It sensed late and heard a searching robot that sensed before it:
+    /// it stays this slot.
     late: bool,
     /// It halted cut off: at every slot's start it checks whether it still
     /// is, and resumes if not (a robot it held failed was heard again, a
@@ -236,6 +241,7 @@ impl<'g> Peer<'g> {
             slot_start: 0,
             slot_end: Time::MAX,
             widen: 0,
+            sensed_late: false,
             late: false,
             cut_off: false,
             spare: None,
@@ -296,7 +302,9 @@ impl<'g> Peer<'g> {
             }
         }
         self.send_acks(now, out);
-        if self.phase == Phase::Exchange && now >= self.window_end {
+        // Behind another robot it stays whatever else it hears: it need
+        // not listen on (a slow robot would pay another reaction for it).
+        if self.phase == Phase::Exchange && (now >= self.window_end || self.behind()) {
             self.end_exchange(now, out);
         }
         if self.phase == Phase::Choosing {
@@ -339,6 +347,7 @@ impl<'g> Peer<'g> {
                     id,
                     at,
                     map: false,
+                    sent: Time::MAX,
                     halted: false,
                     choice: None,
                     accounted_me: false,
@@ -382,12 +391,17 @@ impl<'g> Peer<'g> {
         }
         // Woken after the exchange (frozen, or slow): it still sends its map
         // (those that hear it wait for its answer like any other's), and
-        // answers with a stay (`late`, set at the end of its exchange).
-        let window_end = start + self.cfg.timing.exchange + self.widen;
+        // listens a whole window from now, so that it hears the map of
+        // every other late robot that sensed before it: of two late robots
+        // only the earlier may move (`late`, set at the end of its exchange).
+        let nominal_end = start + self.cfg.timing.exchange + self.widen;
+        self.sensed_late = now > nominal_end;
+        let window_end = if self.sensed_late { now + self.cfg.timing.exchange + self.widen } else { nominal_end };
         self.slot_start = start;
         self.slot_end = self.cfg.timing.decision.map_or(Time::MAX, |d| start + d);
         let map = robot.map_mut().send_copy(round, self.spare.take());
-        self.send(out, Frame::Map { round, from: me, at: tick.at, halted, stop: self.stop_known, map }, now);
+        let map = Frame::Map { round, from: me, at: tick.at, sent: now, halted, stop: self.stop_known, map };
+        self.send(out, map, now);
         if self.cfg.robot.situation == Situation::One {
             let new: Vec<u32> = tick.targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();
             if !new.is_empty() {
@@ -461,7 +475,7 @@ impl<'g> Peer<'g> {
         }
         let me = self.id();
         match f {
-            Frame::Map { at, halted, stop, map, .. } => {
+            Frame::Map { at, sent, halted, stop, map, .. } => {
                 self.widen_for(now);
                 let robot = self.robot.as_mut().expect("checked");
                 let was_failed = robot.map().is_failed(from);
@@ -474,6 +488,7 @@ impl<'g> Peer<'g> {
                 }
                 let h = self.heard_mut(from, *at);
                 h.map = true;
+                h.sent = *sent;
                 h.at = *at;
                 h.halted |= *halted;
                 if *stop {
@@ -601,12 +616,20 @@ impl<'g> Peer<'g> {
         }
         self.phase = Phase::Choosing;
         self.deadline = self.window_end + self.cfg.timing.wait;
-        // It sensed after its exchange window, among searching neighbours:
-        // their maps came before it sensed, their choices may be out
-        // already, and they have written it off for the slot; it sits the
-        // slot out. A robot alone (or among halted ones) goes on: its
-        // lateness concerns nobody, and a robot slow for good must still search.
-        self.late = self.sensed_at > self.window_end && self.heard.iter().any(|h| !h.halted);
+        // It sensed after its exchange window, among searching neighbours
+        // that sensed before it: their choices may be out already, and they
+        // have written it off for the slot; it sits the slot out. (A robot
+        // heard without its map counts as earlier.) The earliest of late
+        // robots goes on, and so does a late robot alone: its lateness
+        // concerns nobody, and a robot slow for good must still search.
+        self.late = self.behind();
+    }
+
+    /// It sensed late, and heard a searching robot that sensed before it
+    /// (or one heard without its map).
+    fn behind(&self) -> bool {
+        let me = (self.sensed_at, self.id());
+        self.sensed_late && self.heard.iter().any(|h| !h.halted && (!h.map || (h.sent, h.id) < me))
     }
 
     /// The sonar's occupied neighbours that no map of this slot accounts

@@ -21,8 +21,10 @@ use crate::sim::{Framed, Header, Listen};
 pub enum Frame {
     /// Step 3, sent at the start of every slot: the sender's map as it was
     /// after sensing, where it stands, whether it has stopped searching, and
-    /// whether it carries the step-8 stop that ends the search.
-    Map { round: u32, from: RobotId, at: VertexId, halted: bool, stop: bool, map: Map },
+    /// whether it carries the step-8 stop that ends the search. `sent` is
+    /// when the sender sensed (by its clock, in simulated microseconds):
+    /// robots that sensed late order themselves by it (`crate::peer`).
+    Map { round: u32, from: RobotId, at: VertexId, sent: u64, halted: bool, stop: bool, map: Map },
     /// Step 5: the sender's next vertex (its own to stay), and the
     /// neighbours whose announced choices it avoided: for each of them this
     /// is the acknowledgement that lets it move.
@@ -256,7 +258,7 @@ mod tests {
 
     fn frames() -> Vec<Frame> {
         vec![
-            Frame::Map { round: 4, from: 12, at: 99, halted: false, stop: true, map: a_map() },
+            Frame::Map { round: 4, from: 12, at: 99, sent: 7_000_000, halted: false, stop: true, map: a_map() },
             Frame::Choice { round: 5, from: 0, at: 6, next: 7, accounted: vec![1, 12] },
             Frame::Ack { round: 5, from: 3, acked: vec![0, 4], refused: vec![9] },
             Frame::Commit { round: 6, from: 2, moving: true },
@@ -288,8 +290,8 @@ mod tests {
 
     #[test]
     fn the_controller_reads_the_stop_from_frames_and_from_their_bytes() {
-        let stop_map = Frame::Map { round: 4, from: 2, at: 9, halted: true, stop: true, map: a_map() };
-        let map = Frame::Map { round: 4, from: 2, at: 9, halted: true, stop: false, map: a_map() };
+        let stop_map = Frame::Map { round: 4, from: 2, at: 9, sent: 0, halted: true, stop: true, map: a_map() };
+        let map = Frame::Map { round: 4, from: 2, at: 9, sent: 0, halted: true, stop: false, map: a_map() };
         let stop_flood = Frame::Flood { round: 3, from: 1, targets: vec![], stop: true };
         // Its header's tag bit 63 says "a stop or a target of 63 or more".
         let far_target = Frame::Flood { round: 3, from: 1, targets: vec![70], stop: false };
@@ -319,8 +321,8 @@ mod tests {
             Frame::Choice { round: 0, from: 1, at: 0, next: 100, accounted: vec![] },
             Frame::Choice { round: 0, from: 1, at: 0, next: 1, accounted: vec![13] },
             Frame::Ack { round: 0, from: 1, acked: vec![], refused: vec![13] },
-            Frame::Map { round: 0, from: 1, at: 0, halted: false, stop: false, map: Map::new(101, 9) },
-            Frame::Map { round: 0, from: 1, at: 0, halted: false, stop: false, map: Map::new(100, 70) },
+            Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: Map::new(101, 9) },
+            Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: Map::new(100, 70) },
         ];
         for f in bad {
             assert!(matches!(decode(&encode(&f), &LIMITS), Err(DecodeError::Range(_))), "{f:?}");

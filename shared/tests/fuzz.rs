@@ -316,8 +316,9 @@ fn robots() -> impl Strategy<Value = Vec<u16>> {
 fn frame() -> impl Strategy<Value = Frame> {
     let (round, from, v) = (any::<u32>, || 0u16..13, || 0u32..100);
     prop_oneof![
-        (round(), from(), v(), any::<bool>(), any::<bool>(), map())
-            .prop_map(|(round, from, at, halted, stop, map)| Frame::Map { round, from, at, halted, stop, map }),
+        (round(), from(), v(), any::<u64>(), any::<bool>(), any::<bool>(), map()).prop_map(
+            |(round, from, at, sent, halted, stop, map)| Frame::Map { round, from, at, sent, halted, stop, map }
+        ),
         (round(), from(), v(), v(), robots()).prop_map(|(round, from, at, next, accounted)| Frame::Choice {
             round,
             from,

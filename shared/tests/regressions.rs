@@ -5,7 +5,8 @@
 //! slot shut; robots halted cut off for good, behind each other or behind
 //! a live robot falsely declared under loss; survivors wandering for
 //! thousands of rounds; frames later than the exchange window read as dead
-//! neighbours. Each prints the command that replays it.
+//! neighbours; two late robots, each alone by its own window, stepping
+//! onto one vertex. Each prints the command that replays it.
 
 use gridswarm::engine;
 use gridswarm::outcome::RunConfig;
@@ -32,13 +33,18 @@ fn completes(robots: usize, cfg: RunConfig, replay: &str) {
 /// [`completes`], ended by one of `endings`: `cut_off` when a body walls
 /// off the rest (complete then means all the survivors could reach).
 fn ends(robots: usize, cfg: RunConfig, replay: &str, endings: &[&str]) {
-    let sc = Scenario::builtin("cave").unwrap();
+    ends_on("cave", robots, cfg, replay, endings);
+}
+
+/// [`ends`] on `scenario`.
+fn ends_on(scenario: &str, robots: usize, cfg: RunConfig, replay: &str, endings: &[&str]) {
+    let sc = Scenario::builtin(scenario).unwrap();
     let world = sc.world();
     let starts = sc.start_vertices(&world, robots).unwrap();
     let r = engine::run(&world, &starts, &cfg);
     let p = &r.protocol;
     let what = format!(
-        "ended by {} at round {}, {} of {} targets, {} collisions, {} forced slots\n  replay: gridswarm simulate --scenario cave --robots {robots} {replay}",
+        "ended by {} at round {}, {} of {} targets, {} collisions, {} forced slots\n  replay: gridswarm simulate --scenario {scenario} --robots {robots} {replay}",
         p.ended_by, r.rounds, r.targets_found, r.targets_total, r.collisions, p.forced_slots
     );
     assert!(r.complete && endings.contains(&p.ended_by.as_str()), "{what}");
@@ -154,4 +160,26 @@ fn survivors_finish_what_the_bodies_leave_them() {
                   --kill 22@8+1.809 --kill 56@15";
     assert!(r.complete, "incomplete, ended by {}: {replay}", r.protocol.ended_by);
     assert!(r.rounds <= 150, "{} rounds (30 without the crashes): {replay}", r.rounds);
+}
+
+#[test]
+fn of_two_late_robots_only_the_earlier_moves() {
+    // Found by the 10^6-case soak (seed 20261204): in round 31 the thawed
+    // robot 2 and the slow robot 0 sensed 1.3 ms apart, both after their
+    // window; each ended its exchange before the other's map came, found
+    // itself alone, and both stepped onto (7,1). A late robot now listens a
+    // whole window from its sensing, and only the earlier of the two moves.
+    let us = |robot, round, offset, kind| Fault { robot, round, offset, kind };
+    let faults = vec![
+        us(1, 4, 686_493, FaultKind::Crash),
+        us(3, 24, 1_447_421, FaultKind::Crash),
+        us(2, 27, 204_788, FaultKind::Freeze),
+        us(2, 31, 1_245_718, FaultKind::Thaw),
+        us(0, 8, 601_626, slow(1247)),
+    ];
+    let mut cfg = config(Policy::Escape, 517493990696062897, Situation::Two, faults);
+    cfg.max_rounds = 2000;
+    let replay = "--algorithm escape --seed 517493990696062897 --situation 2 --max-rounds 2000 \
+                  --kill 1@4+0.686493 --kill 3@24+1.447421 --freeze 2@27+0.204788:31+1.245718 --slow 0@8+0.601626:1247";
+    ends_on("small", 4, cfg, replay, &["stop"]);
 }

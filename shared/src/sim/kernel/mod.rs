@@ -147,9 +147,11 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         let wait = micros(p.t_wait);
         // The protocol's own bound (the widest exchange a robot may choose, a
         // wait for choices, the choice, a wait for acknowledgements, a few
-        // hops), with room for slow robots.
+        // hops), with room for a robot slow by up to 4 t_wait: a late robot
+        // reacts twice, to sense and to decide after listening a window
+        // (`Peer::start_slot`).
         let widest = exchange * (1 + crate::peer::MAX_WIDEN);
-        let slot_limit = widest + 4 * wait + micros(p.t_choice) + 20 * micros(p.t_hop);
+        let slot_limit = widest + 8 * wait + micros(p.t_choice) + 20 * micros(p.t_hop);
         let fixed = crate::peer::Timing::from_params(p).decision;
         let bots = (0..n)
             .map(|_| Bot {
