@@ -503,18 +503,26 @@ pub const TERMINAL_WIDTH: usize = 100;
 /// right). A table wider than [`TERMINAL_WIDTH`] is printed as several
 /// narrower ones, each repeating the first column, so no line wraps.
 pub fn text_table(t: &Table) -> String {
+    keyed_text_table(t, 1)
+}
+
+/// [`text_table`] whose first `keys` columns (what identifies a row)
+/// start every part, so that no part reads as rows of one key alone.
+pub fn keyed_text_table(t: &Table, keys: usize) -> String {
     let cols = t.header.len();
+    let keys = keys.clamp(1, cols.max(1));
     let width: Vec<usize> = (0..cols)
         .map(|c| t.rows.iter().map(|r| r[c].chars().count()).chain([t.header[c].chars().count()]).max().unwrap_or(0))
         .collect();
-    // Column groups after the first, each fitting the width with it.
+    let key_width: usize = width.iter().take(keys).sum::<usize>() + 2 * (keys.min(cols).saturating_sub(1));
+    // Column groups after the keys, each fitting the width with them.
     let mut groups: Vec<Vec<usize>> = vec![Vec::new()];
-    let mut used = width.first().copied().unwrap_or(0);
-    for c in 1..cols {
+    let mut used = key_width;
+    for c in keys..cols {
         let last = groups.last_mut().expect("one group");
         if !last.is_empty() && used + 2 + width[c] > TERMINAL_WIDTH {
             groups.push(Vec::new());
-            used = width[0];
+            used = key_width;
         }
         groups.last_mut().expect("one group").push(c);
         used += 2 + width[c];
@@ -525,9 +533,8 @@ pub fn text_table(t: &Table) -> String {
             s.push('\n');
         }
         for row in std::iter::once(&t.header).chain(&t.rows) {
-            let cells: Vec<String> = std::iter::once(0)
+            let cells: Vec<String> = (0..keys.min(cols))
                 .chain(group.iter().copied())
-                .filter(|&c| c < cols)
                 .map(|c| {
                     let x = &row[c];
                     let pad = " ".repeat(width[c].saturating_sub(x.chars().count()));
@@ -549,6 +556,27 @@ mod tests {
     use super::*;
     use gridswarm::policy::Policy;
     use serde_json::json;
+
+    #[test]
+    fn every_part_of_a_split_table_starts_with_its_keys() {
+        let header: Vec<String> = ["loss", "robots", "retries"]
+            .into_iter()
+            .map(String::from)
+            .chain((0..10).map(|c| format!("a wide column {c}")))
+            .collect();
+        let t = Table { header, rows: vec![(0..13).map(|c| format!("{c}")).collect()] };
+        let text = keyed_text_table(&t, 3);
+        let parts: Vec<&str> = text.split("\n\n").collect();
+        assert!(parts.len() > 1, "{text}");
+        for p in parts {
+            let mut lines = p.lines();
+            let head: Vec<&str> = lines.next().unwrap().split_whitespace().collect();
+            assert_eq!(&head[..3], ["loss", "robots", "retries"], "{text}");
+            let row: Vec<&str> = lines.next().unwrap().split_whitespace().collect();
+            assert_eq!(&row[..3], ["0", "1", "2"], "{text}");
+        }
+        assert!(text.lines().all(|l| l.chars().count() <= TERMINAL_WIDTH), "{text}");
+    }
 
     #[test]
     fn wide_tables_split_to_fit_a_terminal() {
