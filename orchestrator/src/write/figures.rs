@@ -24,9 +24,19 @@ pub fn ended_by_phrase(ended_by: &str) -> &'static str {
 /// and retries. Heads routes.svg and the replay's side bar, so that a
 /// picture alone says what it shows.
 pub fn settings_line(summary: &Value) -> String {
-    let faults: Vec<&str> =
-        summary.get("faults").and_then(Value::as_array).into_iter().flatten().filter_map(Value::as_str).collect();
+    let faults = faults_given(summary);
     let faults = if faults.is_empty() { "none".to_string() } else { faults.join(", ") };
+    format!("faults: {faults}; radio: {}", radio_text(summary))
+}
+
+/// The faults injected, as their options read (`--kill 2@20`).
+pub fn faults_given(summary: &Value) -> Vec<String> {
+    let list = summary.get("faults").and_then(Value::as_array).map(Vec::as_slice).unwrap_or_default();
+    list.iter().filter_map(Value::as_str).map(str::to_string).collect()
+}
+
+/// The radio's settings: loss, delay, jitter, duplication, retries.
+pub fn radio_text(summary: &Value) -> String {
     let num = |v: Option<&Value>| v.map(|v| v.to_string()).unwrap_or_else(|| "?".into());
     let radio = match summary.get("radio") {
         Some(r) if r.is_object() => format!(
@@ -39,7 +49,7 @@ pub fn settings_line(summary: &Value) -> String {
         _ => "not recorded".into(),
     };
     let retries = summary.get("retries").or_else(|| summary.get("params").and_then(|p| p.get("retries")));
-    format!("faults: {faults}; radio: {radio}, retries {}", num(retries))
+    format!("{radio}, retries {}", num(retries))
 }
 
 /// One injected failure as `summary.json` lists it.
