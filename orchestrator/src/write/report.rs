@@ -46,6 +46,8 @@ pub enum Block {
         caption: String,
     },
     Table(Table),
+    /// Small pictures side by side, each an SVG document with a caption.
+    Gallery(Vec<(String, String)>),
     /// Name and value pairs, e.g. the parameters of a run.
     Params(Vec<(String, String)>),
     /// Claim checks with their verdicts and evidence.
@@ -114,8 +116,12 @@ nav a { margin-right: 14px; color: #1f5f99; text-decoration: none; }
 figure { margin: 8px 0; }
 figure svg { max-width: 100%; height: auto; border: 1px solid #eee; }
 figcaption { font-size: 13px; color: #555; margin-top: 4px; }
+.gallery { display: flex; flex-wrap: wrap; gap: 10px 16px; }
+.gallery figure { margin: 0; max-width: 250px; }
+.gallery svg { border: 1px solid #eee; }
 table { border-collapse: collapse; font-size: 13px; margin: 6px 0; }
-th, td { padding: 3px 8px; border-bottom: 1px solid #eee; text-align: left; white-space: nowrap; }
+th, td { padding: 3px 6px; border-bottom: 1px solid #eee; text-align: left; }
+td.num { white-space: nowrap; }
 th { white-space: normal; vertical-align: bottom; }
 th { background: #f3f3ef; font-weight: 600; position: sticky; top: 0; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
@@ -199,6 +205,18 @@ fn render_block(s: &mut String, b: &Block) {
             let _ = writeln!(s, "</figure>");
         }
         Block::Table(t) => render_table(s, t),
+        Block::Gallery(pictures) => {
+            let _ = writeln!(s, "<div class=\"gallery\">");
+            for (svg, caption) in pictures {
+                let _ = writeln!(
+                    s,
+                    "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>",
+                    inline_svg(svg),
+                    xml_escape(caption)
+                );
+            }
+            let _ = writeln!(s, "</div>");
+        }
         Block::Params(rows) => {
             let _ = writeln!(s, "<dl class=\"params\">");
             for (k, v) in rows {

@@ -392,6 +392,36 @@ fn frame_of(world: &World) -> (Frame, f64, f64) {
     (frame, pw, ph)
 }
 
+/// A map alone, `side` pixels on its long side, without text: the area,
+/// obstacles and targets, for the thumbnails of a report over maps. `id`
+/// names the `<svg>` element.
+pub fn map_svg(world: &World, side: f64, id: &str) -> String {
+    let (lo, hi) = world.area.bounding_box();
+    let (w, h) = ((hi.x - lo.x).max(1e-6), (hi.y - lo.y).max(1e-6));
+    let frame = Frame { lo, hi, scale: side / w.max(h), margin: 2.0, top: 2.0 };
+    let (width, height) = (frame.len(w) + 4.0, frame.len(h) + 4.0);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg id="{}" xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.2} {height:.2}">"#,
+        xml_escape(id)
+    );
+    area(&mut s, &frame, world);
+    let star = (frame.len(world.params.a) * 0.5).clamp(3.0, 6.0);
+    let _ = writeln!(s, r#"<g id="targets" fill="{}">"#, palette::TARGET);
+    for t in &world.targets {
+        let (x, y) = (frame.x(t.x), frame.y(t.y));
+        let _ = writeln!(
+            s,
+            r#"<rect x="{:.1}" y="{:.1}" width="{star:.1}" height="{star:.1}" transform="rotate(45 {x:.1} {y:.1})"/>"#,
+            x - star / 2.0,
+            y - star / 2.0
+        );
+    }
+    let _ = writeln!(s, "</g>\n</svg>");
+    s
+}
+
 /// The document's start: size, title (and a line of settings under it,
 /// if any), white background.
 fn open_svg(s: &mut String, width: f64, height: f64, title: &str, settings: &str, frame: &Frame) {
@@ -741,6 +771,26 @@ mod tests {
         assert!(
             settings.contains("--kill 1@1") && settings.contains("loss 0.2") && settings.contains("retries 1"),
             "{settings}"
+        );
+    }
+
+    #[test]
+    fn a_thumbnail_fits_its_side() {
+        let svg = map_svg(&world(), 240.0, "map-0");
+        let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+        let root = doc.root_element();
+        assert_eq!(root.attribute("id"), Some("map-0"));
+        let width: f64 = root.attribute("width").unwrap().parse().unwrap();
+        assert!((width - 244.0).abs() < 1.0, "{width}");
+        assert_eq!(doc.descendants().filter(|n| n.attribute("id") == Some("targets")).count(), 1);
+        assert_eq!(
+            doc.descendants()
+                .find(|n| n.attribute("id") == Some("obstacles"))
+                .unwrap()
+                .children()
+                .filter(|n| n.is_element())
+                .count(),
+            2
         );
     }
 
