@@ -214,7 +214,10 @@ fn figure(rows: &[RadioRow], losses: &[f64], title: &str) -> std::result::Result
     );
     let unsure =
         Panel::new("Unsure stays", "loss probability P", "per run", series(rows, |s| (Some(s.mean_unsure), None)));
-    panels::panels_svg(title, &[collisions, done, time, unsure], losses)
+    // Every panel has the same lines: one key, in the first.
+    let mut panels = [collisions, done, time, unsure];
+    panels.iter_mut().skip(1).for_each(|p| p.legend = false);
+    panels::panels_svg(title, &panels, losses)
 }
 
 fn points(opts: &RadioOptions) -> Vec<Point> {
@@ -359,7 +362,7 @@ impl Page<'_> {
                         svg,
                         caption: "Against the probability P that one transmission is lost on one link, one line per \
                                   robot count N (its colour) and retransmission count R (its dash: solid for the \
-                                  fewest): collisions per 10^6 moves (all runs \
+                                  fewest), keyed in the first panel: collisions per 10^6 moves (all runs \
                                   pooled; log scale, points with no collision left out), completion rate, mean \
                                   search time of the completed runs (bars: 95% CI) and unsure stays per run. \
                                   Measurements only."

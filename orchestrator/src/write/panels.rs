@@ -5,7 +5,7 @@
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use crate::write::palette;
+use crate::write::{palette, plot};
 
 /// Panels side by side at most: a report shows the figure at its own
 /// width (about 920 px), where 12-point text stays 12 px.
@@ -68,11 +68,22 @@ pub struct Panel {
     pub log_y: bool,
     /// Fixed y range, e.g. `0..=1` for a rate; from the data when `None`.
     pub y_range: Option<(f64, f64)>,
+    /// Whether the panel draws its legend: panels whose series are those
+    /// of another panel leave it out, so that no key hides their lines.
+    pub legend: bool,
 }
 
 impl Panel {
     pub fn new(title: &str, x_desc: &str, y_desc: &str, series: Vec<Series>) -> Self {
-        Panel { title: title.into(), x_desc: x_desc.into(), y_desc: y_desc.into(), series, log_y: false, y_range: None }
+        Panel {
+            title: title.into(),
+            x_desc: x_desc.into(),
+            y_desc: y_desc.into(),
+            series,
+            log_y: false,
+            y_range: None,
+            legend: true,
+        }
     }
 }
 
@@ -136,7 +147,7 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
     {
         let root = SVGBackend::with_string(&mut out, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let root = root.titled(title, ("sans-serif", 17)).map_err(|e| e.to_string())?;
+        let root = root.titled(title, ("sans-serif", 20)).map_err(|e| e.to_string())?;
         let areas = root.split_evenly((rows, columns));
         for (panel, area) in panels.iter().zip(&areas) {
             draw_panel(panel, area, x)?;
@@ -148,11 +159,8 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
 
 /// The y range of a panel, in plotted units (decades on a log scale).
 fn y_range(panel: &Panel, tf: impl Fn(f64) -> f64) -> (f64, f64) {
-    let ys: Vec<f64> = panel
-        .series
-        .iter()
-        .flat_map(|s| s.points.iter().flat_map(|&(_, y, e)| [tf(y + e), tf((y - e).max(1e-9))]))
-        .collect();
+    let ys: Vec<f64> =
+        panel.series.iter().flat_map(|s| s.points.iter().flat_map(|&(_, y, e)| [tf(y + e), tf(y - e)])).collect();
     let (mut y0, mut y1) = match panel.y_range {
         Some((a, b)) => (tf(a), tf(b)),
         None => {
@@ -183,7 +191,7 @@ fn draw_panel<DB: DrawingBackend>(
     let tf = move |y: f64| if log_y { y.max(1e-9).log10() } else { y };
     let (y0, y1) = y_range(panel, tf);
     let mut chart = ChartBuilder::on(area)
-        .caption(&panel.title, ("sans-serif", 15))
+        .caption(&panel.title, ("sans-serif", 18))
         .margin(10)
         .x_label_area_size(42)
         .y_label_area_size(62)
@@ -194,8 +202,8 @@ fn draw_panel<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc(&panel.x_desc)
         .y_desc(&panel.y_desc)
-        .axis_desc_style(("sans-serif", 14))
-        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 16))
+        .label_style(("sans-serif", plot::TEXT))
         .x_labels(x.ticks)
         .x_label_formatter(&|v| {
             if !x.whole {
@@ -245,12 +253,12 @@ fn draw_panel<DB: DrawingBackend>(
             }))
             .map_err(|e| e.to_string())?;
     }
-    if !panel.series.is_empty() {
+    if panel.legend && !panel.series.is_empty() {
         // A fixed range (a rate) has no headroom: its legend goes
         // low, where rates near 1 leave space.
         let pos =
             if panel.y_range.is_some() { SeriesLabelPosition::LowerRight } else { SeriesLabelPosition::UpperLeft };
-        crate::plot::legend(&mut chart, pos, 13)?;
+        plot::legend(&mut chart, pos, plot::TEXT)?;
     }
     Ok(())
 }

@@ -119,9 +119,10 @@ figcaption { font-size: 13px; color: #555; margin-top: 4px; }
 .gallery { display: flex; flex-wrap: wrap; gap: 10px 16px; }
 .gallery figure { margin: 0; max-width: 250px; }
 .gallery svg { border: 1px solid #eee; }
-table { border-collapse: collapse; font-size: 13px; margin: 6px 0; }
-th, td { padding: 3px 6px; border-bottom: 1px solid #eee; text-align: left; }
+table { border-collapse: collapse; font-size: 12px; margin: 6px 0; }
+th, td { padding: 3px 4px; border-bottom: 1px solid #eee; text-align: left; }
 td.num { white-space: nowrap; }
+td.num.pm { white-space: normal; }
 th { white-space: normal; vertical-align: bottom; }
 th { background: #f3f3ef; font-weight: 600; position: sticky; top: 0; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
@@ -152,6 +153,7 @@ fn is_number(s: &str) -> bool {
         || t == "-"
         || t.trim_end_matches('%').parse::<f64>().is_ok()
         || t.split('/').all(|p| p.parse::<f64>().is_ok())
+        || t.split(" ± ").all(|p| p.parse::<f64>().is_ok())
 }
 
 /// Drops what may precede the `<svg` element (XML declaration, doctype,
@@ -175,13 +177,21 @@ fn render_table(s: &mut String, t: &Table) {
     let _ = writeln!(s, "<div class=\"scroll\"><table>");
     let _ = write!(s, "<thead><tr>");
     for h in &t.header {
-        let _ = write!(s, "<th>{}</th>", xml_escape(h));
+        // A heading may break after a slash (`retrans./run`), so that
+        // wide tables fit the page.
+        let _ = write!(s, "<th>{}</th>", xml_escape(h).replace('/', "/<wbr>"));
     }
     let _ = writeln!(s, "</tr></thead>\n<tbody>");
     for row in &t.rows {
         let _ = write!(s, "<tr>");
         for (c, cell) in row.iter().enumerate() {
-            let class = if numeric[c] { " class=\"num\"" } else { "" };
+            // A value with its interval may break after the ±, so that a
+            // wide table still fits the page.
+            let class = match (numeric[c], cell.contains('±')) {
+                (true, true) => " class=\"num pm\"",
+                (true, false) => " class=\"num\"",
+                _ => "",
+            };
             let _ = write!(s, "<td{class}>{}</td>", xml_escape(cell));
         }
         let _ = writeln!(s, "</tr>");

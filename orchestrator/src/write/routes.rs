@@ -330,7 +330,7 @@ fn nice_step(span: f64, n: f64) -> f64 {
 fn axes(s: &mut String, f: &Frame, lo: Point, hi: Point) {
     let step = nice_step((hi.x - lo.x).max(hi.y - lo.y), 8.0);
     let (bottom, left) = (f.bottom(), f.x(lo.x));
-    let _ = writeln!(s, r##"<g id="axes" font-size="10" fill="#444444" stroke="#444444" stroke-width="0.8">"##);
+    let _ = writeln!(s, r##"<g id="axes" font-size="12" fill="#444444" stroke="#444444" stroke-width="0.8">"##);
     let mut x = (lo.x / step).ceil() * step;
     while x <= hi.x + 1e-9 {
         let px = f.x(x);
@@ -338,7 +338,7 @@ fn axes(s: &mut String, f: &Frame, lo: Point, hi: Point) {
             s,
             r#"<line x1="{px:.1}" y1="{bottom:.1}" x2="{px:.1}" y2="{:.1}"/><text x="{px:.1}" y="{:.1}" text-anchor="middle" stroke="none">{}</text>"#,
             bottom + 4.0,
-            bottom + 15.0,
+            bottom + 16.0,
             tick(x)
         );
         x += step;
@@ -379,13 +379,13 @@ fn tick(v: f64) -> String {
     }
 }
 
-/// Where a map of `world` goes: about 900 px on the long side, but never
-/// so small that vertices merge nor so large that a small map becomes a
-/// poster. Returns the frame and the map's size in pixels.
-fn frame_of(world: &World) -> (Frame, f64, f64) {
+/// Where a map of `world` goes: about `side` px on the long side, but
+/// never so small that vertices merge nor so large that a small map
+/// becomes a poster. Returns the frame and the map's size in pixels.
+fn frame_of(world: &World, side: f64) -> (Frame, f64, f64) {
     let (lo, hi) = world.area.bounding_box();
     let (w, h) = ((hi.x - lo.x).max(1e-6), (hi.y - lo.y).max(1e-6));
-    let scale = (900.0 / w.max(h)).clamp(8.0, 80.0);
+    let scale = (side / w.max(h)).clamp(8.0, 80.0);
     // Room above the map for a title and a line of settings.
     let frame = Frame { lo, hi, scale, margin: 44.0, top: 56.0 };
     let (pw, ph) = (frame.len(w), frame.len(h));
@@ -474,7 +474,8 @@ fn area(s: &mut String, frame: &Frame, world: &World) {
 /// every raster sample no vertex of `Va` senses (`holes`, red), for
 /// `experiment --grids`.
 pub fn holes_svg(world: &World, va: &[Point], holes: &[Point], title: &str) -> String {
-    let (frame, pw, ph) = frame_of(world);
+    // 880 px wide in all: a report shows it whole, its text unshrunk.
+    let (frame, pw, ph) = frame_of(world, 816.0);
     let (lo, hi) = world.area.bounding_box();
     let (width, height) = (frame.margin + pw + 20.0, frame.top + ph + 48.0);
     let mut s = String::new();
@@ -546,7 +547,7 @@ fn marks(s: &mut String, frame: &Frame, a: f64, trajectories: &[Vec<Pose>], note
 pub fn routes_svg(world: &World, trajectories: &[Vec<Pose>], notes: &Notes) -> String {
     let (lo, hi) = world.area.bounding_box();
     let a = world.params.a;
-    let (frame, pw, ph) = frame_of(world);
+    let (frame, pw, ph) = frame_of(world, 900.0);
     let legend = Legend::new(trajectories.len(), ph);
     let width = frame.margin + pw + 20.0 + legend.width();
     let height = frame.top + ph.max(legend.height()) + 48.0;
