@@ -112,7 +112,7 @@
   var C = {
     area: "#fbfbf8", outline: "#33363a", edge: "#d3d7dc", vertex: "#b4bac1",
     obstacle: "#8e949b", obstacleEdge: "#5b6067", detected: "#8fc0ea",
-    target: D.target_colour, found: "#2ca02c", link: "rgba(16,60,110,0.75)",
+    target: D.target_colour, found: D.target_colour, link: "rgba(16,60,110,0.75)",
     collision: "#e0001b", refused: "#ff8c00", failed: "#9a9a9a"
   };
 
@@ -300,12 +300,14 @@
     g.lineTo(x - h, y);
     g.closePath();
   }
+  // Targets in the targets' colour only, which no robot has: hollow until
+  // found, then filled.
   function drawTarget(g, x, y, found, h) {
     diamond(g, x, y, h);
     g.fillStyle = found ? C.found : "#ffffff";
     g.fill();
     g.lineWidth = 2;
-    g.strokeStyle = found ? "#17651a" : C.target;
+    g.strokeStyle = found ? "#6b0f10" : C.target;
     g.stroke();
   }
   function robotRadius() { return Math.max(3.5, P.r_rob * s); }
