@@ -277,6 +277,32 @@ mod tests {
     }
 
     #[test]
+    fn four_panels_two_to_a_row_with_type_of_12_px() {
+        let p = |t: &str| Panel::new(t, "x", "y", vec![Series::new("s", [(0.0, Some(1.0)), (1.0, Some(2.0))])]);
+        let svg = panels_svg("t", &[p("a"), p("b"), p("c"), p("d")], &[0.0, 1.0]).unwrap();
+        let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+        let width: f64 = doc.root_element().attribute("width").unwrap().parse().unwrap();
+        // Shown whole in a report's 884 px column, scaled by at most 0.96.
+        assert!(width <= 920.0, "{width}");
+        for t in doc.descendants().filter(|n| n.has_tag_name("text")) {
+            let size: f64 = t.attribute("font-size").unwrap().parse().unwrap();
+            assert!(size * 884.0 / width >= 11.0, "{:?} at {size} px", t.text());
+        }
+    }
+
+    #[test]
+    fn series_of_one_colour_differ_by_dash() {
+        let s = |dash| Series::new("s", [(0.0, Some(1.0)), (1.0, Some(2.0))]).styled(3, dash);
+        let one = |dash| panels_svg("t", &[Panel::new("a", "x", "y", vec![s(dash)])], &[0.0, 1.0]).unwrap();
+        let (solid, dashed) = (one(0), one(1));
+        let lines = |svg: &str| svg.matches("<polyline").count();
+        // A dashed line is drawn as many short segments, a solid one as one.
+        assert!(lines(&dashed) > lines(&solid) + 3, "{} vs {}", lines(&dashed), lines(&solid));
+        // Plotters writes `#RRGGBB`.
+        assert!(solid.contains(&palette::COLOURS[3].to_uppercase()), "{solid}");
+    }
+
+    #[test]
     fn draws_valid_svg_with_labels() {
         let mut log =
             Panel::new("wall", "robots", "ms", vec![Series::new("p50", [(13.0, Some(0.2)), (50.0, Some(3.0))])]);

@@ -29,6 +29,11 @@
 //!     `detected_round` is drawn failed from that round on.
 //!   - `refused_moves`: either a count (shown as a total) or
 //!     `[{"robot": r, "round": k}, ...]` (each marked at that robot in round `k`).
+//!   - `failures`' `kind`, `round` and `thawed_s` (every run's summary):
+//!     a crashed robot is drawn crashed from its round, a frozen one frozen
+//!     until the first round past its thaw, whether declared or not.
+//!   - `faults` and `radio` (and `retries`), shown in the side bar as
+//!     [`crate::figures::settings_line`] words them.
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
