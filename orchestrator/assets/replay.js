@@ -82,18 +82,37 @@
   var cumCollisions = new Int32Array(R + 2);
   for (var ck = 0; ck <= R; ck++) cumCollisions[ck + 1] = cumCollisions[ck] + collisionsIn(ck);
 
-  // Same colours as routes.svg (routes.rs robot_colour).
-  var TAB10 = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
-  function robotColour(r) {
-    return r < TAB10.length ? TAB10[r] : "hsl(" + ((r * 137.507764) % 360).toFixed(0) + ",70%,40%)";
+  // The same palette as routes.svg (palette.rs): never the targets' red;
+  // robots past its end trail dashed, as their routes are.
+  var PALETTE = D.palette, DASHES = [[8, 4], [2, 3], [12, 3, 2, 3]];
+  var colours = [], dashes = [];
+  for (var ci = 0; ci < n; ci++) {
+    var lap = Math.floor(ci / PALETTE.length);
+    colours.push(PALETTE[ci % PALETTE.length]);
+    dashes.push(lap === 0 ? [] : DASHES[(lap - 1) % DASHES.length]);
   }
-  var colours = [];
-  for (var ci = 0; ci < n; ci++) colours.push(robotColour(ci));
+  // Injected faults: crashed from their round on, frozen until the thaw.
+  var crashedAt = new Array(n).fill(Infinity), frozen = [];
+  D.faults.forEach(function (f) {
+    if (f[1] === 0) crashedAt[f[0]] = Math.min(crashedAt[f[0]], f[2]);
+    else frozen.push([f[0], f[2], f[3] < 0 ? Infinity : f[3]]);
+  });
+  function isFrozen(r, k) {
+    return frozen.some(function (f) { return f[0] === r && f[1] <= k && k < f[2]; });
+  }
+  // What a robot is at round k: crashed, frozen, declared failed by the
+  // others, its record ended (stopped), or searching.
+  function stateOf(r, k) {
+    if (crashedAt[r] <= k) return "crashed";
+    if (isFrozen(r, k)) return "frozen";
+    if (failedAt[r] <= k) return "failed";
+    return k >= lens[r] ? "ended" : "active";
+  }
 
   var C = {
     area: "#fbfbf8", outline: "#33363a", edge: "#d3d7dc", vertex: "#b4bac1",
     obstacle: "#8e949b", obstacleEdge: "#5b6067", detected: "#8fc0ea",
-    target: "#d62728", found: "#2ca02c", link: "rgba(16,60,110,0.75)",
+    target: D.target_colour, found: D.target_colour, link: "rgba(16,60,110,0.75)",
     collision: "#e0001b", refused: "#ff8c00", failed: "#9a9a9a"
   };
 
@@ -265,8 +284,10 @@
       g.moveTo(X(poseX(r, from)), Y(poseY(r, from)));
       for (var j = from + 1; j <= end; j++) g.lineTo(X(poseX(r, j)), Y(poseY(r, j)));
       g.strokeStyle = colours[r];
+      g.setLineDash(dashes[r]);
       g.stroke();
     }
+    g.setLineDash([]);
     trailK = Math.max(trailK, k);
   }
 
@@ -279,31 +300,44 @@
     g.lineTo(x - h, y);
     g.closePath();
   }
+  // Targets in the targets' colour only, which no robot has: hollow until
+  // found, then filled.
   function drawTarget(g, x, y, found, h) {
     diamond(g, x, y, h);
     g.fillStyle = found ? C.found : "#ffffff";
     g.fill();
     g.lineWidth = 2;
-    g.strokeStyle = found ? "#17651a" : C.target;
+    g.strokeStyle = found ? "#6b0f10" : C.target;
     g.stroke();
   }
   function robotRadius() { return Math.max(3.5, P.r_rob * s); }
-  function drawRobot(g, x, y, rr, colour, failed, ended, label) {
+  // The marks match routes.svg's end marks: a black cross on the robot's
+  // colour when crashed, white pause bars when frozen, a white disc when
+  // its record ended; grey with a cross when the others declared it failed.
+  function drawRobot(g, x, y, rr, colour, state, label) {
+    var failed = state === "failed", ended = state === "ended";
     g.beginPath();
     g.arc(x, y, rr, 0, 2 * Math.PI);
     g.fillStyle = failed ? C.failed : ended ? "#ffffff" : colour;
     g.fill();
     g.lineWidth = Math.max(1, rr * 0.18);
-    g.strokeStyle = failed ? "#222" : ended ? colour : "rgba(0,0,0,0.65)";
+    g.strokeStyle = failed || state === "frozen" ? "#222" : ended ? colour : "rgba(0,0,0,0.65)";
     g.stroke();
-    if (failed) {
-      var c = rr * 0.9;
+    if (failed || state === "crashed") {
+      var c = rr * (failed ? 0.9 : 1.25);
       g.beginPath();
       g.moveTo(x - c, y - c); g.lineTo(x + c, y + c);
       g.moveTo(x + c, y - c); g.lineTo(x - c, y + c);
-      g.lineWidth = Math.max(1.5, rr * 0.3);
+      g.lineWidth = Math.max(1.5, rr * 0.34);
       g.strokeStyle = "#111";
+      g.lineCap = "round";
       g.stroke();
+      g.lineCap = "butt";
+    } else if (state === "frozen") {
+      var w = rr * 0.32, h = rr * 1.1;
+      g.fillStyle = "#ffffff";
+      g.fillRect(x - 1.1 * w - w / 2, y - h / 2, w, h);
+      g.fillRect(x + 1.1 * w - w / 2, y - h / 2, w, h);
     } else if (label && rr >= 8) {
       g.fillStyle = ended ? colour : "#ffffff";
       g.font = "600 " + Math.round(rr * 1.05) + "px system-ui, sans-serif";
@@ -335,7 +369,7 @@
   // Position of robot r at fractional round t (straight moves, as step 6).
   function at(r, t) {
     var k = Math.floor(t), f = t - k;
-    if (failedAt[r] <= k || k + 1 >= lens[r] || f === 0) return [poseX(r, k), poseY(r, k)];
+    if (failedAt[r] <= k || crashedAt[r] <= k || k + 1 >= lens[r] || f === 0) return [poseX(r, k), poseY(r, k)];
     var x0 = poseX(r, k), y0 = poseY(r, k);
     return [x0 + (poseX(r, k + 1) - x0) * f, y0 + (poseY(r, k + 1) - y0) * f];
   }
@@ -402,14 +436,16 @@
         for (var j = from + 1; j <= k && j < lens[r]; j++) ctx.lineTo(X(poseX(r, j)), Y(poseY(r, j)));
         ctx.lineTo(X(pos[r][0]), Y(pos[r][1]));
         ctx.strokeStyle = colours[r];
+        ctx.setLineDash(dashes[r]);
         ctx.stroke();
       }
+      ctx.setLineDash([]);
       ctx.globalAlpha = 1;
     }
 
     // Radio links of the round: robots within r_c at its start.
     var active = [];
-    for (r = 0; r < n; r++) if (failedAt[r] > k && k < lens[r]) active.push(r);
+    for (r = 0; r < n; r++) if (stateOf(r, k) === "active") active.push(r);
     if (opt.links) {
       var rc2 = P.r_c * P.r_c;
       ctx.beginPath();
@@ -464,12 +500,13 @@
     }
 
     // Robots last, on top of everything.
-    var drawn = 0, failedDrawn = 0;
+    var drawn = 0, failedDrawn = 0, states = { crashed: 0, frozen: 0, failed: 0, ended: 0, active: 0 };
     for (r = 0; r < n; r++) {
-      var failed = failedAt[r] <= k, ended = !failed && k >= lens[r];
-      drawRobot(ctx, X(pos[r][0]), Y(pos[r][1]), rr, colours[r], failed, ended, n <= 100 ? String(r) : "");
+      var state = stateOf(r, k);
+      drawRobot(ctx, X(pos[r][0]), Y(pos[r][1]), rr, colours[r], state, n <= 100 ? String(r) : "");
       drawn++;
-      if (failed) failedDrawn++;
+      states[state]++;
+      if (failedAt[r] <= k) failedDrawn++;
     }
 
     // Readout.
@@ -486,6 +523,8 @@
     setText("r-collisions", String(collisionsSoFar));
     setText("r-refused", D.refused.length ? String(refusedSoFar) : D.refused_total != null ? D.refused_total + " (total)" : "0");
     setText("r-failed", String(failedDrawn));
+    setText("r-crashed", String(states.crashed));
+    setText("r-frozen", String(states.frozen));
     setText("roundlabel", "round " + k + " of " + R);
     if (String(k) !== slider.value) slider.value = String(k);
     drawChart();
@@ -493,6 +532,8 @@
     publish({
       ready: true, round: k, u: Math.round(u * 1000) / 1000, rounds: R, robots: n,
       robots_drawn: drawn, robots_active: active.length, robots_failed: failedDrawn, sensing_circles: circles,
+      robots_crashed: states.crashed, robots_frozen: states.frozen, robots_ended: states.ended,
+      robot_colours: colours.slice(0, 30), settings: D.settings,
       targets_found: series.found[k], targets_marked_found: found, detected: det,
       time_s: Math.round(time * 1000) / 1000, collisions: collisionsSoFar, playing: playing,
       canvas: [view.width, view.height], errors: errors.slice()
@@ -582,8 +623,11 @@
   // ------------------------------------------------------- static panels
   function legend() {
     var items = [
-      ["robot (number = its id, as in the CLI and JSON)", function (g) { drawRobot(g, 11, 9, 6, colours[0], false, false, ""); }],
-      ["failed robot", function (g) { drawRobot(g, 11, 9, 6, "", true, false, ""); }],
+      ["robot (number = its id, as in the CLI and JSON)", function (g) { drawRobot(g, 11, 9, 6, colours[0], "active", ""); }],
+      ["crashed robot", function (g) { drawRobot(g, 11, 9, 6, colours[0], "crashed", ""); }],
+      ["frozen robot", function (g) { drawRobot(g, 11, 9, 6, colours[0], "frozen", ""); }],
+      ["stopped: its record ended", function (g) { drawRobot(g, 11, 9, 6, colours[0], "ended", ""); }],
+      ["declared failed by the others", function (g) { drawRobot(g, 11, 9, 6, "", "failed", ""); }],
       ["target / found", function (g) { drawTarget(g, 6, 9, false, 5); drawTarget(g, 17, 9, true, 5); }],
       ["detected area", function (g) { g.fillStyle = C.detected; g.globalAlpha = 0.55; g.fillRect(2, 3, 18, 12); g.globalAlpha = 1; }],
       ["radio link (within r_c)", function (g) { g.strokeStyle = C.link; g.lineWidth = 1.5; g.setLineDash([4, 3]); g.beginPath(); g.moveTo(2, 13); g.lineTo(20, 5); g.stroke(); g.setLineDash([]); }],
@@ -607,7 +651,9 @@
   }
 
   function runInfo() {
+    var given = D.settings.faults;
     var rows = [
+      ["faults", given.length ? given.join(", ") : "none"], ["radio", D.settings.radio],
       ["grid side a", P.a + " m"], ["r_rob / r_safe", P.r_rob + " / " + P.r_safe + " m"],
       ["r_st (targets)", P.r_st + " m"], ["r_c (radio)", P.r_c + " m"],
       ["rounds", String(R)],

@@ -42,6 +42,11 @@ fn chromium() -> PathBuf {
 /// (`--disable-dev-shm-usage` with `TMPDIR` there), removed with it: chromium
 /// leaves files in /dev/shm otherwise.
 fn headless(work: &Path, extra: &[String], url: &str) -> String {
+    headless_sized(work, "1200,900", extra, url)
+}
+
+/// [`headless`] in a window of `size` (`W,H` pixels).
+fn headless_sized(work: &Path, size: &str, extra: &[String], url: &str) -> String {
     let profile = work.join(format!("profile-{}", std::process::id()));
     let _ = fs::remove_dir_all(&profile);
     fs::create_dir_all(&profile).unwrap();
@@ -56,9 +61,9 @@ fn headless(work: &Path, extra: &[String], url: &str) -> String {
         "--disable-component-update",
         "--disable-sync",
         "--hide-scrollbars",
-        "--window-size=1200,900",
         "--disable-dev-shm-usage",
     ])
+    .arg(format!("--window-size={size}"))
     .env("TMPDIR", &profile)
     .arg(format!("--user-data-dir={}", profile.display()))
     .args(extra)
@@ -200,9 +205,9 @@ fn replay_screenshot_is_a_picture() {
     }
     assert!(colours.len() > 200, "only {} distinct colours: a blank page?", colours.len());
     assert!(drawn * 4 > total, "only {drawn} of {total} sampled pixels drawn");
-    // Robot 2's orange fill appears (robots are drawn on top of everything).
+    // Robot 1's orange fill appears (robots are drawn on top of everything).
     let orange = (0..h).any(|y| (0..w * 3 / 4).any(|x| px(x, y) == (0xff, 0x7f, 0x0e)));
-    assert!(orange, "robot 2 is not on the screenshot");
+    assert!(orange, "robot 1 is not on the screenshot");
 }
 
 #[test]
@@ -232,4 +237,104 @@ fn experiment_report_loads() {
     let dom = headless(&d, &["--dump-dom".to_string()], &file_url(&out.join("report.html"), ""));
     assert!(dom.contains("<svg") && dom.contains("<table>"), "{dom:.2000}");
     assert!(dom.contains("Claim (a)"));
+}
+
+#[test]
+fn replay_marks_crashed_and_frozen_robots_and_says_the_conditions() {
+    let d = scratch("faults");
+    let run = d.join("run");
+    assert_ok(&gridswarm(&[
+        "simulate",
+        "--robots",
+        "30",
+        "--seed",
+        "2",
+        "--kill",
+        "1@3",
+        "--freeze",
+        "2@4",
+        "--loss",
+        "0.1",
+        "--out",
+        run.to_str().unwrap(),
+    ]));
+    let page = run.join("replay.html");
+    let state = page_state(&d, &page, "#round=2&paused=1");
+    assert_no_errors(&state);
+    assert_eq!((state["robots_crashed"].as_u64(), state["robots_frozen"].as_u64()), (Some(0), Some(0)), "{state}");
+    let state = page_state(&d, &page, "#round=5&paused=1");
+    assert_no_errors(&state);
+    assert_eq!(state["robots_crashed"], 1, "{state}");
+    assert_eq!(state["robots_frozen"], 1, "{state}");
+    assert_eq!(state["robots_active"], 28, "{state}");
+    let faults: Vec<&str> = state["settings"]["faults"].as_array().unwrap().iter().filter_map(Value::as_str).collect();
+    assert_eq!(faults, ["--kill 1@3", "--freeze 2@4"], "{state}");
+    assert!(state["settings"]["radio"].as_str().unwrap().contains("loss 0.1"), "{state}");
+    // 24 colours for the first 24 robots, none the targets' red.
+    let colours: Vec<&str> = state["robot_colours"].as_array().unwrap().iter().filter_map(Value::as_str).collect();
+    let distinct: std::collections::HashSet<&&str> = colours[..24].iter().collect();
+    assert_eq!(distinct.len(), 24, "{colours:?}");
+    assert!(colours.iter().all(|c| !c.eq_ignore_ascii_case("#d62728")), "{colours:?}");
+}
+
+/// A report opened at 940 px (its text column 884 px wide): the smallest
+/// text of any figure on screen, whether any table scrolls sideways, and
+/// how many figures there are, measured by a script added to a copy.
+fn measure(work: &Path, report: &Path) -> Value {
+    const SCRIPT: &str = r#"<script>(function () {
+  var r = { min_font: 1e9, smallest: "", overflow: [], svgs: 0 };
+  document.querySelectorAll("svg").forEach(function (svg) {
+    var w = svg.width.baseVal.value, box = svg.getBoundingClientRect();
+    if (!w || !box.width) return;
+    r.svgs++;
+    svg.querySelectorAll("text").forEach(function (t) {
+      if (!t.textContent.trim()) return;
+      var px = parseFloat(getComputedStyle(t).fontSize) * box.width / w;
+      if (px < r.min_font) { r.min_font = px; r.smallest = t.textContent.slice(0, 60); }
+    });
+  });
+  document.querySelectorAll(".scroll").forEach(function (d) {
+    if (d.scrollWidth > d.clientWidth + 1) r.overflow.push(d.querySelector("th") ? d.textContent.slice(0, 60) : "?");
+  });
+  var pre = document.createElement("pre"); pre.id = "measure"; pre.textContent = JSON.stringify(r);
+  document.body.appendChild(pre);
+})();</script>"#;
+    let html = fs::read_to_string(report).unwrap().replace("</body>", &format!("{SCRIPT}</body>"));
+    let copy = report.with_file_name("measured.html");
+    fs::write(&copy, html).unwrap();
+    let dom = headless_sized(work, "940,900", &["--dump-dom".to_string()], &file_url(&copy, ""));
+    let start = dom.find("<pre id=\"measure\">").unwrap_or_else(|| panic!("no measure in:\n{dom:.2000}"));
+    let rest = &dom[start..];
+    let text = &rest[rest.find('>').unwrap() + 1..rest.find("</pre>").unwrap()];
+    serde_json::from_str(&text.replace("&quot;", "\"").replace("&amp;", "&")).unwrap()
+}
+
+#[test]
+fn reports_read_at_880_px() {
+    let d = scratch("readable");
+    let o = |name: &str| d.join(name);
+    let reports: [(&[&str], &str, &str); 7] = [
+        (&["experiment", "--runs", "2", "--robots", "1-3"], "fig7", "report.html"),
+        (
+            &["experiment", "--scenario", "random:1", "--maps", "2", "--runs", "2", "--robots", "1-2"],
+            "maps",
+            "report.html",
+        ),
+        (&["experiment", "--grids"], "grids", "grids.html"),
+        (&["experiment", "failures", "--runs", "3", "--robots", "6"], "failures", "report.html"),
+        (&["experiment", "radio", "--runs", "2"], "radio", "report.html"),
+        (&["experiment", "readings", "--robots", "1-2", "--runs", "2", "--seeds", "1"], "readings", "report.html"),
+        (&["experiment", "scale", "--robots", "2,3", "--runs", "1"], "scale", "report.html"),
+    ];
+    for (args, name, page) in reports {
+        let out = o(name);
+        let mut all = args.to_vec();
+        all.extend(["--out", out.to_str().unwrap()]);
+        assert_ok(&gridswarm(&all));
+        let m = measure(&d, &out.join(page));
+        assert!(m["svgs"].as_u64().unwrap() >= 1, "{name}: no figure: {m}");
+        let min = m["min_font"].as_f64().unwrap();
+        assert!(min >= 11.0, "{name}: text of {min:.1} px on screen: {m}");
+        assert_eq!(m["overflow"].as_array().map(Vec::len), Some(0), "{name}: a table is cut off: {m}");
+    }
 }

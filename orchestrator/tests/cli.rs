@@ -554,7 +554,7 @@ fn experiment_failures_runs_in_process_and_writes_its_files() {
     assert_eq!(v["unsure"].to_string(), field("unsure"));
     roxmltree::Document::parse(&fs::read_to_string(d.join("failures.svg")).unwrap()).expect("failures.svg is XML");
     let html = fs::read_to_string(d.join("report.html")).unwrap();
-    assert!(html.contains("Failures: paper scenario, 6 robots") && html.contains("false susp./run"), "report");
+    assert!(html.contains("Failures: paper scenario, 6 robots") && html.contains("false susp./<wbr>run"), "report");
 }
 
 #[test]

@@ -278,7 +278,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             extra: [report::sensitivity_section(&readings)]
                 .into_iter()
                 .flatten()
-                .chain(if several { crate::spread::sections(&map_rows, &spreads) } else { Vec::new() })
+                .chain(if several { crate::spread::sections(&maps, &map_rows, &spreads) } else { Vec::new() })
                 .collect(),
         });
         output::write_text(&out.join("report.html"), &report::render(&page))

@@ -147,30 +147,37 @@ fn figure(rows: &[FailureRow], title: &str) -> std::result::Result<String, Strin
         vec![Series::new("completion rate", rows.iter().map(|r| (x(r), Some(r.stats.completion_rate))))],
     );
     done.y_range = Some((0.0, 1.05));
-    let delay = Panel::new(
-        "Detection delay",
+    // One quantity per axis: rounds and seconds, counts per run and a
+    // rate per 10^6 moves, each on a panel of its own.
+    let delay_rounds = Panel::new(
+        "Detection delay in rounds",
         "robots killed",
-        "mean delay after the crash",
-        vec![
-            Series::new("rounds", rows.iter().map(|r| (x(r), r.stats.mean_delay_rounds))),
-            Series::new("simulated s / 10", rows.iter().map(|r| (x(r), r.stats.mean_delay_s.map(|s| s / 10.0)))),
-        ],
+        "mean rounds after the crash",
+        vec![Series::new("rounds", rows.iter().map(|r| (x(r), r.stats.mean_delay_rounds)))],
+    );
+    let delay_s = Panel::new(
+        "Detection delay in simulated time",
+        "robots killed",
+        "mean simulated s after the crash",
+        vec![Series::new("simulated seconds", rows.iter().map(|r| (x(r), r.stats.mean_delay_s)))],
     );
     let protocol = Panel::new(
-        "Protocol, per run",
+        "Protocol events per run",
         "robots killed",
         "mean per run",
         vec![
             Series::new("false suspicions", rows.iter().map(|r| (x(r), Some(r.stats.mean_false_suspicions)))),
             Series::new("rejoins", rows.iter().map(|r| (x(r), Some(r.stats.mean_rejoins)))),
             Series::new("unsure stays", rows.iter().map(|r| (x(r), Some(r.stats.mean_unsure)))),
-            Series::new(
-                "collisions per 10^6 moves",
-                rows.iter().map(|r| (x(r), Some(r.stats.collisions_per_million_moves))),
-            ),
         ],
     );
-    panels::panels_svg(title, &[time, done, delay, protocol], &xs)
+    let collisions = Panel::new(
+        "Collisions",
+        "robots killed",
+        "collisions per 10^6 moves",
+        vec![Series::new("all runs pooled", rows.iter().map(|r| (x(r), Some(r.stats.collisions_per_million_moves))))],
+    );
+    panels::panels_svg(title, &[time, done, delay_rounds, delay_s, protocol, collisions], &xs)
 }
 
 /// The options checked, the scenario loaded; the robot count.
@@ -312,8 +319,8 @@ impl Page<'_> {
                         svg,
                         caption: "Against the number of robots crashed at random times inside rounds: mean search \
                                   time of the completed runs (bars: 95% CI), completion rate, how long after a crash \
-                                  a survivor first declared it, and the protocol's false suspicions, rejoins, unsure \
-                                  stays and collisions per 10^6 moves."
+                                  a survivor first declared it (in rounds, and in simulated seconds), the protocol's \
+                                  false suspicions, rejoins and unsure stays per run, and collisions per 10^6 moves."
                             .into(),
                     }],
                 ),

@@ -112,13 +112,20 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
              accessible: in Ad and at least r_safe from every wall and obstacle\n\
              |Va|: accessible and reachable from the starts over traversable edges (what a search can visit)\n\
              detected fraction: share of raster samples of Ad within r_st of a vertex of Va\n";
+    // Every file written, in order, is said: the table, one picture per
+    // lattice, the page.
+    let mut written = vec!["grids.csv".to_string()];
     for (name, svg) in &pictures {
-        output::write_text(&dir.join(format!("grids-{name}.svg")), svg)?;
+        let file = format!("grids-{name}.svg");
+        output::write_text(&dir.join(&file), svg)?;
+        written.push(file);
     }
     output::write_text(&dir.join("grids.html"), &report::render(&grids_report(&base, h, &rows, &text, pictures)))?;
+    written.push("grids.html".into());
     stage.commit()?;
-    let _ = writeln!(text, "wrote {}", opts.out.join("grids.csv").display());
-    let _ = writeln!(text, "wrote {}", opts.out.join("grids.html").display());
+    for file in written {
+        let _ = writeln!(text, "wrote {}", opts.out.join(file).display());
+    }
     Ok((rows, text))
 }
 

@@ -9,6 +9,7 @@
 //! the same starts and the same draws of the decision core (paired runs);
 //! the radio's own draws depend on the seed and the transmission only.
 
+use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::str::FromStr;
 
@@ -18,7 +19,7 @@ use serde_json::json;
 use crate::error::{Error, Result};
 use crate::faults::{self, FaultPlan};
 use crate::panels::{self, Panel, Series};
-use crate::report::{self, text_table, Block, Report, Section, Table};
+use crate::report::{self, keyed_text_table, Block, Report, Section, Table};
 // The seed of a run is the sweep's, the same for every loss and retries.
 use crate::seeds::run_seed;
 use crate::staging::Staging;
@@ -164,7 +165,8 @@ fn table(rows: &[RadioRow]) -> Table {
     }
 }
 
-/// One series per (robots, retries), against the loss.
+/// One series per (robots, retries), against the loss: coloured by the
+/// robot count and dashed by the retries, so that a line's look says both.
 fn series(rows: &[RadioRow], y: impl Fn(&ProtoStats) -> (Option<f64>, Option<f64>)) -> Vec<Series> {
     let mut keys: Vec<(usize, u32)> = Vec::new();
     for r in rows {
@@ -172,13 +174,17 @@ fn series(rows: &[RadioRow], y: impl Fn(&ProtoStats) -> (Option<f64>, Option<f64
             keys.push((r.point.robots, r.point.retries));
         }
     }
+    let robots: BTreeSet<usize> = keys.iter().map(|k| k.0).collect();
+    let retries: BTreeSet<u32> = keys.iter().map(|k| k.1).collect();
     keys.iter()
         .map(|&(n, k)| {
             let pts = rows.iter().filter(|r| (r.point.robots, r.point.retries) == (n, k)).map(|r| {
                 let (v, e) = y(&r.stats);
                 (r.point.loss, v, e)
             });
-            Series::with_err(format!("N={n}, R={k}"), pts)
+            let colour = robots.iter().position(|&m| m == n).unwrap_or(0);
+            let dash = retries.iter().position(|&m| m == k).unwrap_or(0);
+            Series::with_err(format!("N={n}, R={k}"), pts).styled(colour, dash)
         })
         .collect()
 }
@@ -208,7 +214,10 @@ fn figure(rows: &[RadioRow], losses: &[f64], title: &str) -> std::result::Result
     );
     let unsure =
         Panel::new("Unsure stays", "loss probability P", "per run", series(rows, |s| (Some(s.mean_unsure), None)));
-    panels::panels_svg(title, &[collisions, done, time, unsure], losses)
+    // Every panel has the same lines: one key, in the first.
+    let mut panels = [collisions, done, time, unsure];
+    panels.iter_mut().skip(1).for_each(|p| p.legend = false);
+    panels::panels_svg(title, &panels, losses)
 }
 
 fn points(opts: &RadioOptions) -> Vec<Point> {
@@ -352,7 +361,8 @@ impl Page<'_> {
                     vec![Block::Figure {
                         svg,
                         caption: "Against the probability P that one transmission is lost on one link, one line per \
-                                  robot count N and retransmission count R: collisions per 10^6 moves (all runs \
+                                  robot count N (its colour) and retransmission count R (its dash: solid for the \
+                                  fewest), keyed in the first panel: collisions per 10^6 moves (all runs \
                                   pooled; log scale, points with no collision left out), completion rate, mean \
                                   search time of the completed runs (bars: 95% CI) and unsure stays per run. \
                                   Measurements only."
@@ -375,7 +385,7 @@ impl Page<'_> {
             self.runs_per,
             self.opts.protocol.seed,
             self.opts.protocol.engine.name(),
-            text_table(&table(self.rows)),
+            keyed_text_table(&table(self.rows), 3),
             self.runs.len(),
             self.wall_time_s,
             self.opts.protocol.out.display()

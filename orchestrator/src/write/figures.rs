@@ -19,6 +19,39 @@ pub fn ended_by_phrase(ended_by: &str) -> &'static str {
     }
 }
 
+/// The conditions a run ran under, from its `summary.json`: the injected
+/// faults as their options read, and the radio's loss, delay, duplication
+/// and retries. Heads routes.svg and the replay's side bar, so that a
+/// picture alone says what it shows.
+pub fn settings_line(summary: &Value) -> String {
+    let faults = faults_given(summary);
+    let faults = if faults.is_empty() { "none".to_string() } else { faults.join(", ") };
+    format!("faults: {faults}; radio: {}", radio_text(summary))
+}
+
+/// The faults injected, as their options read (`--kill 2@20`).
+pub fn faults_given(summary: &Value) -> Vec<String> {
+    let list = summary.get("faults").and_then(Value::as_array).map(Vec::as_slice).unwrap_or_default();
+    list.iter().filter_map(Value::as_str).map(str::to_string).collect()
+}
+
+/// The radio's settings: loss, delay, jitter, duplication, retries.
+pub fn radio_text(summary: &Value) -> String {
+    let num = |v: Option<&Value>| v.map(|v| v.to_string()).unwrap_or_else(|| "?".into());
+    let radio = match summary.get("radio") {
+        Some(r) if r.is_object() => format!(
+            "loss {}, delay {} ms (jitter {} ms), duplication {}",
+            num(r.get("loss")),
+            num(r.get("delay")),
+            num(r.get("jitter")),
+            num(r.get("dup"))
+        ),
+        _ => "not recorded".into(),
+    };
+    let retries = summary.get("retries").or_else(|| summary.get("params").and_then(|p| p.get("retries")));
+    format!("{radio}, retries {}", num(retries))
+}
+
 /// One injected failure as `summary.json` lists it.
 pub fn failure_value(f: &FailureRecord) -> Value {
     json!({
@@ -131,6 +164,13 @@ mod tests {
         assert_eq!(v["failures"][0]["detection_delay_rounds"], 2);
         assert_eq!(v["failures"][0]["detection_delay_s"], 7.5);
         let line = failure_lines(&r);
+        let mut summary = json!({ "faults": ["--kill 2@3"], "radio": { "loss": 0.1, "delay": 5, "jitter": 2, "dup": 0.0 }, "retries": 2 });
+        assert_eq!(
+            settings_line(&summary),
+            "faults: --kill 2@3; radio: loss 0.1, delay 5 ms (jitter 2 ms), duplication 0.0, retries 2"
+        );
+        summary["faults"] = json!([]);
+        assert!(settings_line(&summary).starts_with("faults: none; "));
         assert!(line.contains("robot 2 crash in round 3") && line.contains("after 2 rounds (7.500 s"), "{line}");
         assert_eq!(ended_by_phrase("max_rounds"), "round limit reached");
     }

@@ -3,6 +3,8 @@
 //! readings experiment draws its claims against the readings with it.
 
 use plotters::prelude::*;
+
+use crate::plot::TEXT;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// One cell: its fill and the text written in it.
@@ -42,14 +44,14 @@ pub fn svg(h: &Heat) -> Result<String, String> {
         root.fill(&WHITE).map_err(e)?;
         let centred =
             |size: u32| ("sans-serif", size).into_font().color(&BLACK).pos(Pos::new(HPos::Center, VPos::Center));
-        let right = ("sans-serif", 13).into_font().color(&BLACK).pos(Pos::new(HPos::Right, VPos::Center));
-        let left = ("sans-serif", 13).into_font().color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
-        root.draw(&Text::new(h.title.clone(), (width as i32 / 2, 16), centred(17))).map_err(e)?;
+        let right = ("sans-serif", TEXT).into_font().color(&BLACK).pos(Pos::new(HPos::Right, VPos::Center));
+        let left = ("sans-serif", TEXT).into_font().color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
+        root.draw(&Text::new(h.title.clone(), (width as i32 / 2, 16), centred(20))).map_err(e)?;
         let mid = LEFT + nc * CELL_W / 2;
-        root.draw(&Text::new(h.columns_desc.clone(), (mid, 40), centred(13))).map_err(e)?;
+        root.draw(&Text::new(h.columns_desc.clone(), (mid, 40), centred(TEXT))).map_err(e)?;
         for (c, label) in h.columns.iter().enumerate() {
             let x = LEFT + c as i32 * CELL_W + CELL_W / 2;
-            root.draw(&Text::new(label.clone(), (x, TOP - 14), centred(13))).map_err(e)?;
+            root.draw(&Text::new(label.clone(), (x, TOP - 14), centred(TEXT))).map_err(e)?;
         }
         for (r, label) in h.rows.iter().enumerate() {
             let y = TOP + r as i32 * CELL_H;
@@ -58,7 +60,7 @@ pub fn svg(h: &Heat) -> Result<String, String> {
                 let x = LEFT + c as i32 * CELL_W;
                 let rect = [(x + 1, y + 1), (x + CELL_W - 1, y + CELL_H - 1)];
                 root.draw(&Rectangle::new(rect, cell.fill.filled())).map_err(e)?;
-                let text = ("sans-serif", 12).into_font().color(&WHITE).pos(Pos::new(HPos::Center, VPos::Center));
+                let text = ("sans-serif", TEXT).into_font().color(&WHITE).pos(Pos::new(HPos::Center, VPos::Center));
                 root.draw(&Text::new(cell.text.clone(), (x + CELL_W / 2, y + CELL_H / 2), text)).map_err(e)?;
             }
         }

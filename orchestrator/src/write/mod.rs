@@ -5,6 +5,7 @@
 pub mod figures;
 pub mod heatmap;
 pub mod output;
+pub mod palette;
 pub mod panels;
 pub mod plot;
 pub mod replay;

@@ -29,6 +29,11 @@
 //!     `detected_round` is drawn failed from that round on.
 //!   - `refused_moves`: either a count (shown as a total) or
 //!     `[{"robot": r, "round": k}, ...]` (each marked at that robot in round `k`).
+//!   - `failures`' `kind`, `round` and `thawed_s` (every run's summary):
+//!     a crashed robot is drawn crashed from its round, a frozen one frozen
+//!     until the first round past its thaw, whether declared or not.
+//!   - `faults` and `radio` (and `retries`), shown in the side bar as
+//!     [`crate::figures::settings_line`] words them.
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -423,6 +428,25 @@ fn collisions(rec: &Recorded) -> Vec<(usize, usize, usize)> {
     out
 }
 
+/// The injected faults for the page, `[robot, kind, round, thaw]` each:
+/// kind 0 a crash, 1 a freeze; `thaw` the first round whose end is past
+/// the thaw (-1: never), so the page draws it frozen until then.
+fn faults(summary: &Value, time_s: &[f64]) -> Vec<[i64; 4]> {
+    let list = summary.get("failures").and_then(Value::as_array).map(Vec::as_slice).unwrap_or_default();
+    list.iter()
+        .filter_map(|f| {
+            let robot = f.get("robot")?.as_u64()? as i64;
+            let round = f.get("round")?.as_u64()? as i64;
+            let crash = f.get("kind")?.as_str()? == "crash";
+            let thaw = f
+                .get("thawed_s")
+                .and_then(Value::as_f64)
+                .map_or(-1, |t| time_s.iter().position(|&e| e >= t).unwrap_or(time_s.len()) as i64);
+            Some([robot, i64::from(!crash), round, thaw])
+        })
+        .collect()
+}
+
 /// The page's data: everything the script draws, as one JSON object.
 pub fn data(rec: &Recorded) -> Value {
     let world = &rec.world;
@@ -525,6 +549,10 @@ pub fn data(rec: &Recorded) -> Value {
         "collisions": s.collisions.iter().flat_map(|&(k, i, j)| [k, i, j]).collect::<Vec<_>>(),
         "collision_counts": rec.round_collisions,
         "failures": rec.failures.iter().flat_map(|f| [f.robot as u64, f.round as u64]).collect::<Vec<_>>(),
+        "faults": faults(summary, &s.time_s).into_iter().filter(|f| (f[0] as usize) < rec.poses.len()).collect::<Vec<_>>(),
+        "settings": { "faults": crate::figures::faults_given(summary), "radio": crate::figures::radio_text(summary) },
+        "palette": crate::write::palette::COLOURS,
+        "target_colour": crate::write::palette::TARGET,
         "refused": rec.refused.iter().flat_map(|f| [f.robot as u64, f.round as u64]).collect::<Vec<_>>(),
         "refused_total": rec.refused_total,
     })

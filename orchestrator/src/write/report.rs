@@ -46,6 +46,8 @@ pub enum Block {
         caption: String,
     },
     Table(Table),
+    /// Small pictures side by side, each an SVG document with a caption.
+    Gallery(Vec<(String, String)>),
     /// Name and value pairs, e.g. the parameters of a run.
     Params(Vec<(String, String)>),
     /// Claim checks with their verdicts and evidence.
@@ -114,8 +116,13 @@ nav a { margin-right: 14px; color: #1f5f99; text-decoration: none; }
 figure { margin: 8px 0; }
 figure svg { max-width: 100%; height: auto; border: 1px solid #eee; }
 figcaption { font-size: 13px; color: #555; margin-top: 4px; }
-table { border-collapse: collapse; font-size: 13px; margin: 6px 0; }
-th, td { padding: 3px 8px; border-bottom: 1px solid #eee; text-align: left; white-space: nowrap; }
+.gallery { display: flex; flex-wrap: wrap; gap: 10px 16px; }
+.gallery figure { margin: 0; max-width: 250px; }
+.gallery svg { border: 1px solid #eee; }
+table { border-collapse: collapse; font-size: 12px; margin: 6px 0; }
+th, td { padding: 3px 4px; border-bottom: 1px solid #eee; text-align: left; }
+td.num { white-space: nowrap; }
+td.num.pm { white-space: normal; }
 th { white-space: normal; vertical-align: bottom; }
 th { background: #f3f3ef; font-weight: 600; position: sticky; top: 0; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
@@ -146,6 +153,7 @@ fn is_number(s: &str) -> bool {
         || t == "-"
         || t.trim_end_matches('%').parse::<f64>().is_ok()
         || t.split('/').all(|p| p.parse::<f64>().is_ok())
+        || t.split(" ± ").all(|p| p.parse::<f64>().is_ok())
 }
 
 /// Drops what may precede the `<svg` element (XML declaration, doctype,
@@ -169,13 +177,21 @@ fn render_table(s: &mut String, t: &Table) {
     let _ = writeln!(s, "<div class=\"scroll\"><table>");
     let _ = write!(s, "<thead><tr>");
     for h in &t.header {
-        let _ = write!(s, "<th>{}</th>", xml_escape(h));
+        // A heading may break after a slash (`retrans./run`), so that
+        // wide tables fit the page.
+        let _ = write!(s, "<th>{}</th>", xml_escape(h).replace('/', "/<wbr>"));
     }
     let _ = writeln!(s, "</tr></thead>\n<tbody>");
     for row in &t.rows {
         let _ = write!(s, "<tr>");
         for (c, cell) in row.iter().enumerate() {
-            let class = if numeric[c] { " class=\"num\"" } else { "" };
+            // A value with its interval may break after the ±, so that a
+            // wide table still fits the page.
+            let class = match (numeric[c], cell.contains('±')) {
+                (true, true) => " class=\"num pm\"",
+                (true, false) => " class=\"num\"",
+                _ => "",
+            };
             let _ = write!(s, "<td{class}>{}</td>", xml_escape(cell));
         }
         let _ = writeln!(s, "</tr>");
@@ -199,6 +215,18 @@ fn render_block(s: &mut String, b: &Block) {
             let _ = writeln!(s, "</figure>");
         }
         Block::Table(t) => render_table(s, t),
+        Block::Gallery(pictures) => {
+            let _ = writeln!(s, "<div class=\"gallery\">");
+            for (svg, caption) in pictures {
+                let _ = writeln!(
+                    s,
+                    "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>",
+                    inline_svg(svg),
+                    xml_escape(caption)
+                );
+            }
+            let _ = writeln!(s, "</div>");
+        }
         Block::Params(rows) => {
             let _ = writeln!(s, "<dl class=\"params\">");
             for (k, v) in rows {
@@ -503,18 +531,26 @@ pub const TERMINAL_WIDTH: usize = 100;
 /// right). A table wider than [`TERMINAL_WIDTH`] is printed as several
 /// narrower ones, each repeating the first column, so no line wraps.
 pub fn text_table(t: &Table) -> String {
+    keyed_text_table(t, 1)
+}
+
+/// [`text_table`] whose first `keys` columns (what identifies a row)
+/// start every part, so that no part reads as rows of one key alone.
+pub fn keyed_text_table(t: &Table, keys: usize) -> String {
     let cols = t.header.len();
+    let keys = keys.clamp(1, cols.max(1));
     let width: Vec<usize> = (0..cols)
         .map(|c| t.rows.iter().map(|r| r[c].chars().count()).chain([t.header[c].chars().count()]).max().unwrap_or(0))
         .collect();
-    // Column groups after the first, each fitting the width with it.
+    let key_width: usize = width.iter().take(keys).sum::<usize>() + 2 * (keys.min(cols).saturating_sub(1));
+    // Column groups after the keys, each fitting the width with them.
     let mut groups: Vec<Vec<usize>> = vec![Vec::new()];
-    let mut used = width.first().copied().unwrap_or(0);
-    for c in 1..cols {
+    let mut used = key_width;
+    for c in keys..cols {
         let last = groups.last_mut().expect("one group");
         if !last.is_empty() && used + 2 + width[c] > TERMINAL_WIDTH {
             groups.push(Vec::new());
-            used = width[0];
+            used = key_width;
         }
         groups.last_mut().expect("one group").push(c);
         used += 2 + width[c];
@@ -525,9 +561,8 @@ pub fn text_table(t: &Table) -> String {
             s.push('\n');
         }
         for row in std::iter::once(&t.header).chain(&t.rows) {
-            let cells: Vec<String> = std::iter::once(0)
+            let cells: Vec<String> = (0..keys.min(cols))
                 .chain(group.iter().copied())
-                .filter(|&c| c < cols)
                 .map(|c| {
                     let x = &row[c];
                     let pad = " ".repeat(width[c].saturating_sub(x.chars().count()));
@@ -549,6 +584,27 @@ mod tests {
     use super::*;
     use gridswarm::policy::Policy;
     use serde_json::json;
+
+    #[test]
+    fn every_part_of_a_split_table_starts_with_its_keys() {
+        let header: Vec<String> = ["loss", "robots", "retries"]
+            .into_iter()
+            .map(String::from)
+            .chain((0..10).map(|c| format!("a wide column {c}")))
+            .collect();
+        let t = Table { header, rows: vec![(0..13).map(|c| format!("{c}")).collect()] };
+        let text = keyed_text_table(&t, 3);
+        let parts: Vec<&str> = text.split("\n\n").collect();
+        assert!(parts.len() > 1, "{text}");
+        for p in parts {
+            let mut lines = p.lines();
+            let head: Vec<&str> = lines.next().unwrap().split_whitespace().collect();
+            assert_eq!(&head[..3], ["loss", "robots", "retries"], "{text}");
+            let row: Vec<&str> = lines.next().unwrap().split_whitespace().collect();
+            assert_eq!(&row[..3], ["0", "1", "2"], "{text}");
+        }
+        assert!(text.lines().all(|l| l.chars().count() <= TERMINAL_WIDTH), "{text}");
+    }
 
     #[test]
     fn wide_tables_split_to_fit_a_terminal() {

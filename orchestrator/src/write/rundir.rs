@@ -259,13 +259,15 @@ pub fn write_run_dir(dir: &Path, run: &RunRecord) -> Result<Vec<PathBuf>> {
     output::create_dir(dir)?;
     let mut written = Vec::new();
     let path = dir.join(SUMMARY);
-    output::write_json(&path, &run.summary())?;
+    let summary = run.summary();
+    output::write_json(&path, &summary)?;
     written.push(path);
     let path = dir.join(TRAJECTORIES);
     output::write_file(&path, |w| output::write_trajectories(w, &run.result.trajectories))?;
     written.push(path);
     let path = dir.join(ROUTES);
-    output::write_text(&path, &routes::routes_svg(run.world, &run.result.trajectories, &run.title()))?;
+    let notes = routes::Notes::of(&run.title(), &summary);
+    output::write_text(&path, &routes::routes_svg(run.world, &run.result.trajectories, &notes))?;
     written.push(path);
     let path = dir.join(WORLD);
     output::write_text(&path, &WorldFile::new(run.scenario, run.world, run.starts).to_text())?;

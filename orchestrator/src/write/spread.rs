@@ -6,7 +6,7 @@
 use gridswarm::policy::Policy;
 use plotters::prelude::*;
 
-use crate::maps::{MapRow, Spread};
+use crate::maps::{Map, MapRow, Spread};
 use crate::report::{Block, Section, Table};
 
 fn f1(x: Option<f64>) -> String {
@@ -81,8 +81,21 @@ fn maps_table(rows: &[MapRow]) -> Table {
     }
 }
 
+/// Each map as a thumbnail, named as it can be rerun alone.
+fn thumbnails(maps: &[Map]) -> Block {
+    Block::Gallery(
+        maps.iter()
+            .enumerate()
+            .map(|(k, m)| {
+                let svg = crate::routes::map_svg(&m.scenario.world(), 240.0, &format!("map-{k}"));
+                (svg, format!("map {k}: {}", crate::output::shown(&m.scenario.name)))
+            })
+            .collect(),
+    )
+}
+
 /// The report's sections for a sweep over maps.
-pub fn sections(rows: &[MapRow], spreads: &[Spread]) -> Vec<Section> {
+pub fn sections(maps: &[Map], rows: &[MapRow], spreads: &[Spread]) -> Vec<Section> {
     let mut blocks = vec![Block::Text(format!(
         "Each map's mean search time per algorithm and robot count, over its own runs; below, the least, \
          median and greatest of those means over the {} maps, and on which map each extreme fell. A wide \
@@ -100,7 +113,10 @@ pub fn sections(rows: &[MapRow], spreads: &[Spread]) -> Vec<Section> {
         Err(e) => blocks.push(Block::Text(format!("(figure not drawn: {e})"))),
     }
     blocks.push(Block::Table(table(spreads)));
-    vec![Section::new("Per-map spread", blocks), Section::new("Maps", vec![Block::Table(maps_table(rows))])]
+    vec![
+        Section::new("Per-map spread", blocks),
+        Section::new("Maps", vec![thumbnails(maps), Block::Table(maps_table(rows))]),
+    ]
 }
 
 /// One line for the terminal: the widest spread and where it is.
