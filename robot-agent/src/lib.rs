@@ -250,11 +250,11 @@ impl Agent<'_> {
         let mut malformed = 0;
         for f in &w.frames {
             match protocol::decode(&f.bytes.0, &self.frame_limits) {
-                Ok(frame) => frames.push((f.from, frame)),
+                Ok(frame) => frames.push((f.from, f.at, frame)),
                 Err(_) => malformed += 1,
             }
         }
-        self.peer.wake(w.now, w.tick.as_ref(), frames.iter().map(|(from, f)| (*from, f)), &mut self.out);
+        self.peer.wake(w.now, w.tick.as_ref(), frames.iter().map(|(from, at, f)| (*from, *at, f)), &mut self.out);
         let o = &mut self.out;
         let mut notes = std::mem::take(&mut o.notes);
         notes.extend(std::iter::repeat_n(Note::Malformed, malformed));

@@ -92,7 +92,7 @@ impl Robots for Local<'_> {
         outputs.resize_with(calls.len(), || None);
         for (call, slot) in calls.iter().zip(outputs.iter_mut()) {
             let peer = &mut self.peers[call.robot];
-            let frames = call.frames.iter().map(|d| (d.from, &*d.payload));
+            let frames = call.frames.iter().map(|d| (d.from, d.at, &*d.payload));
             peer.wake(call.now, call.tick.as_ref(), frames, &mut self.out);
             let (o, into) = (&mut self.out, slot.get_or_insert_with(Output::default));
             into.send.clear();

@@ -53,6 +53,10 @@ mod filter;
 /// the defaults 1 s: a map later than that reads as a dead neighbour).
 pub const MAX_WIDEN: Time = 20;
 
+/// How long a robot with robots next to it and no map ever heard stays,
+/// in widest windows, before it reads its neighbours' silence as death.
+pub const DEAF_WINDOWS: Time = 10;
+
 /// The protocol's clock settings, in simulated microseconds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Timing {
@@ -161,6 +165,9 @@ struct Expect {
     id: RobotId,
     at: VertexId,
     missed: u32,
+    /// Its last map was sent after that slot's window: it senses late, so
+    /// it hears this robot's map before it senses, and stays.
+    late_sender: bool,
 }
 
 enum Acks {
@@ -207,6 +214,17 @@ pub struct Peer<'g> {
     /// It sensed late and heard a searching robot that sensed before it:
     /// it stays this slot.
     late: bool,
+    /// This slot does not follow one it took part in (its first, or back
+    /// from a freeze): it expects nobody, so silence tells it nothing.
+    fresh: bool,
+    /// Until when it listens in a fresh slot while it has heard no map.
+    fresh_end: Time,
+    /// The last slot in which it heard a map later than its widest window.
+    too_slow: Option<u32>,
+    /// It has heard another robot's map, of any slot.
+    heard_any: bool,
+    /// When it sensed its first slot.
+    first_sensed: Time,
     /// It halted cut off: at every slot's start it checks whether it still
     /// is, and resumes if not (a robot it held failed was heard again, a
     /// silent body moved, a parked neighbour left).
@@ -243,6 +261,11 @@ impl<'g> Peer<'g> {
             widen: 0,
             sensed_late: false,
             late: false,
+            fresh: true,
+            fresh_end: 0,
+            too_slow: None,
+            heard_any: false,
+            first_sensed: 0,
             cut_off: false,
             spare: None,
         }
@@ -270,12 +293,13 @@ impl<'g> Peer<'g> {
     }
 
     /// One wake-up: the readings of a new slot (if any), the frames heard
-    /// since the last wake-up (with their transmitters), and the time.
+    /// since the last wake-up (with their transmitters and when each
+    /// arrived), and the time.
     pub fn wake<'f>(
         &mut self,
         now: Time,
         tick: Option<&Tick>,
-        frames: impl IntoIterator<Item = (RobotId, &'f Frame), IntoIter: Clone>,
+        frames: impl IntoIterator<Item = (RobotId, Time, &'f Frame), IntoIter: Clone>,
         out: &mut Output<Frame>,
     ) {
         out.clear();
@@ -287,31 +311,31 @@ impl<'g> Peer<'g> {
                 // Frames of the slot that ended (heard after this robot
                 // committed) first: they say where its neighbours went.
                 let frames = frames.into_iter();
-                for (from, f) in frames.clone().filter(|(_, f)| f.round() < round) {
-                    self.on_frame(now, from, f, out);
+                for (from, at, f) in frames.clone().filter(|(_, _, f)| f.round() < round) {
+                    self.on_frame(now, from, at, f, out);
                 }
                 self.start_slot(now, t, (round, start), out);
-                for (from, f) in frames.filter(|(_, f)| f.round() >= round) {
-                    self.on_frame(now, from, f, out);
+                for (from, at, f) in frames.filter(|(_, _, f)| f.round() >= round) {
+                    self.on_frame(now, from, at, f, out);
                 }
             }
             None => {
-                for (from, f) in frames {
-                    self.on_frame(now, from, f, out);
+                for (from, at, f) in frames {
+                    self.on_frame(now, from, at, f, out);
                 }
             }
         }
         self.send_acks(now, out);
         // Behind another robot it stays whatever else it hears: it need
         // not listen on (a slow robot would pay another reaction for it).
-        if self.phase == Phase::Exchange && (now >= self.window_end || self.behind()) {
+        if self.phase == Phase::Exchange && (now >= self.exchange_end() || self.behind()) {
             self.end_exchange(now, out);
         }
         if self.phase == Phase::Choosing {
             self.progress(now, out);
         }
         let alarm = match self.phase {
-            Phase::Exchange => Some(self.window_end),
+            Phase::Exchange => Some(self.exchange_end()),
             Phase::Choosing if self.has_chosen() => match self.listen_until() {
                 Some(l) if l > now => Some(self.ack_deadline.min(l)),
                 _ => Some(self.ack_deadline),
@@ -325,6 +349,16 @@ impl<'g> Peer<'g> {
 
     fn send(&self, out: &mut Output<Frame>, frame: Frame, ready: Time) {
         out.send.push(Transmit { payload: frame, ready, copies: self.cfg.timing.copies });
+    }
+
+    /// When its exchange ends: its window's end, or, in a fresh slot with
+    /// no map heard yet, the widest window's.
+    fn exchange_end(&self) -> Time {
+        if self.heard.iter().any(|h| h.map) {
+            self.window_end
+        } else {
+            self.fresh_end
+        }
     }
 
     /// Until when it listens after its choice before it may commit.
@@ -368,10 +402,14 @@ impl<'g> Peer<'g> {
             return;
         }
         let (grid, rcfg) = (self.grid, self.cfg.robot);
+        if self.robot.is_none() {
+            self.first_sensed = now;
+        }
         let robot = self.robot.get_or_insert_with(|| Robot::new(grid, rcfg, tick.at));
         robot.moved(tick.at);
         let consecutive = self.phase != Phase::Idle && round == self.round + 1;
         self.expect(tick.at, consecutive);
+        self.fresh = !consecutive;
         self.round = round;
         self.sensed_at = now;
         self.heard.clear();
@@ -413,6 +451,14 @@ impl<'g> Peer<'g> {
         }
         if !halted {
             self.window_end = window_end;
+            // Fresh, a robot that hears no map by its window's end cannot
+            // tell an empty neighbourhood from a radio slower than its
+            // window (it has measured none yet): it listens on to the
+            // widest window before it decides alone.
+            let widest = self.cfg.timing.exchange * (1 + MAX_WIDEN);
+            let listen_from = if self.sensed_late { now } else { start };
+            let avoids = self.cfg.robot.policy.collision_free();
+            self.fresh_end = if self.fresh && avoids { window_end.max(listen_from + widest) } else { window_end };
             self.phase = Phase::Exchange;
         }
     }
@@ -445,7 +491,8 @@ impl<'g> Peer<'g> {
                 _ => None,
             };
             if in_range(at) && maybe.is_none_or(in_range) {
-                next.push(Expect { id: h.id, at, missed: 0 });
+                let late_sender = h.map && h.sent > self.slot_start + self.cfg.timing.exchange + self.widen;
+                next.push(Expect { id: h.id, at, missed: 0, late_sender });
             }
         }
         for e in &self.expected {
@@ -457,7 +504,7 @@ impl<'g> Peer<'g> {
         self.expected = next;
     }
 
-    fn on_frame(&mut self, now: Time, from: RobotId, f: &Frame, out: &mut Output<Frame>) {
+    fn on_frame(&mut self, now: Time, from: RobotId, arrived: Time, f: &Frame, out: &mut Output<Frame>) {
         if f.from() != from {
             out.notes.push(Note::Malformed);
             return;
@@ -469,6 +516,10 @@ impl<'g> Peer<'g> {
             self.on_flood(now, targets, *stop, out);
             return;
         }
+        if let Frame::Map { round, sent, .. } = f {
+            self.widen_for(*round, arrived, *sent);
+            self.heard_any = true;
+        }
         if f.round() != self.round {
             out.notes.push(Note::Stale);
             return;
@@ -476,7 +527,6 @@ impl<'g> Peer<'g> {
         let me = self.id();
         match f {
             Frame::Map { at, sent, halted, stop, map, .. } => {
-                self.widen_for(now);
                 let robot = self.robot.as_mut().expect("checked");
                 let was_failed = robot.map().is_failed(from);
                 if !robot.receive_map(from, *at, map, *halted) {
@@ -525,17 +575,23 @@ impl<'g> Peer<'g> {
         }
     }
 
-    /// A map of this slot heard at `now`, after its exchange window closed:
-    /// the radio (or its sender) is later than the window allows, and a
-    /// missed map reads as a dead neighbour. The robot widens its own window
-    /// to take such a map in time from the next slot on, up to
-    /// [`MAX_WIDEN`] exchange windows; it never narrows it again.
-    fn widen_for(&mut self, now: Time) {
-        if self.phase == Phase::Exchange || now <= self.window_end {
-            return;
-        }
+    /// A map of `round` sent (its sender sensed) at `sent` that arrived at
+    /// `arrived`. A map later than the window reads as a dead neighbour,
+    /// whether the radio took long (`arrived - sent`, measured on maps of
+    /// any slot) or its sender sensed late (a map of this slot arriving
+    /// long after the slot began). The robot widens its own window to take
+    /// such a map in time from the next slot on, up to [`MAX_WIDEN`]
+    /// exchange windows; it never narrows it again.
+    fn widen_for(&mut self, round: u32, arrived: Time, sent: Time) {
         let t = self.cfg.timing;
-        let needed = (now + t.hop).saturating_sub(self.slot_start + t.exchange);
+        let latency = arrived.saturating_sub(sent);
+        let into_slot = if round == self.round { arrived.saturating_sub(self.slot_start) } else { 0 };
+        let needed = (latency.max(into_slot) + t.hop).saturating_sub(t.exchange);
+        if (latency + t.hop).saturating_sub(t.exchange) > MAX_WIDEN * t.exchange {
+            // Past the widest window maps it needs miss every window, and a
+            // robot it cannot hear in time may step where it steps.
+            self.too_slow = Some(self.round);
+        }
         self.widen = self.widen.max(needed.min(MAX_WIDEN * t.exchange));
     }
 
@@ -623,6 +679,22 @@ impl<'g> Peer<'g> {
         // robots goes on, and so does a late robot alone: its lateness
         // concerns nobody, and a robot slow for good must still search.
         self.late = self.behind();
+        // Robots next to it, and not one map heard since it started: the
+        // radio is slower than any window (or they all died at once). It
+        // stays, until that silence has lasted `DEAF_WINDOWS` widest windows.
+        let widest = self.cfg.timing.exchange * (1 + MAX_WIDEN);
+        let deaf = !self.heard_any && !self.silent.is_empty() && now < self.first_sensed + DEAF_WINDOWS * widest;
+        if deaf && self.cfg.robot.policy.collision_free() {
+            self.late = true;
+            out.notes.push(Note::Unsure);
+        }
+        // The radio was slower than the widest window this slot or the last:
+        // it may not have heard who is near, and it stays (degrading to
+        // stays, not to collisions).
+        if self.too_slow.is_some_and(|r| r + 1 >= round) && self.cfg.robot.policy.collision_free() {
+            self.late = true;
+            out.notes.push(Note::Unsure);
+        }
     }
 
     /// It sensed late, and heard a searching robot that sensed before it
@@ -716,9 +788,17 @@ impl<'g> Peer<'g> {
                     out.notes.push(Note::TimedOut { robot: j });
                 }
             }
-            let Some(c) = robot.choice().or_else(|| robot.choose()) else {
+            let Some(mut c) = robot.choice().or_else(|| robot.choose()) else {
                 return;
             };
+            if c != robot.position() && near_missed(&self.expected, self.grid, c) {
+                // A neighbour it expected stayed silent: dead, or its map
+                // is later than the window, and then it may step next to
+                // where it stood without having heard this robot either.
+                robot.stay();
+                out.notes.push(Note::Unsure);
+                c = robot.position();
+            }
             self.choice_ready = now + timing.choice;
             if robot.config().policy == Policy::Ru {
                 // Particles: nobody waits for an RU robot, nobody acknowledges it.
@@ -816,6 +896,13 @@ impl<'g> Peer<'g> {
         }
         self.phase = Phase::Committed;
     }
+}
+
+/// Whether `v` is the vertex, or next to the vertex, of a robot expected
+/// this slot whose map did not come (but for one that senses late: it
+/// stays behind this robot).
+fn near_missed(expected: &[Expect], grid: &Grid, v: VertexId) -> bool {
+    expected.iter().any(|e| e.missed > 0 && !e.late_sender && (e.at == v || grid.neighbors(e.at).contains(&v)))
 }
 
 /// Whether the moves `a0 -> a1` and `b0 -> b1`, made at once, keep the two

@@ -140,7 +140,9 @@ fn one_false_declaration_under_loss_does_not_halt_the_others_for_good() {
     let replay = "gridswarm simulate --scenario cave --robots 30 --seed 14552736588203279400 --loss 0.05 --retries 1";
     assert!(r.complete && r.protocol.ended_by == "stop", "ended by {}: {replay}", r.protocol.ended_by);
     assert!(r.protocol.false_suspicions > 0, "the case no longer has a false declaration: {replay}");
-    assert!(r.rounds <= 150, "{} rounds (103 without loss): {replay}", r.rounds);
+    // Loss alone spreads this team's rounds widely (93 to 140 on seeds 1-6):
+    // the bound is twice the fault-free twin's 103, far below the 9,461.
+    assert!(r.rounds <= 206, "{} rounds (103 without loss): {replay}", r.rounds);
 }
 
 #[test]

@@ -36,7 +36,7 @@ impl Robots for Plain<'_> {
     fn wake(&mut self, calls: &mut [WakeCall<Rc<Frame>>], outputs: &mut Vec<Option<Output<Rc<Frame>>>>) {
         outputs.clear();
         for call in calls.iter() {
-            let frames = call.frames.iter().map(|d| (d.from, &*d.payload));
+            let frames = call.frames.iter().map(|d| (d.from, d.at, &*d.payload));
             self.peers[call.robot].wake(call.now, call.tick.as_ref(), frames, &mut self.out);
             let o = &mut self.out;
             let whole = self.whole;
