@@ -23,7 +23,7 @@ pub mod write;
 pub use cli::{check, faults, robots, simulate};
 pub use error::{Error, Result};
 pub use experiments::{
-    claims, experiment, failures, grids, maps, radio, readings, scale, seeds, sensitivity, stats, sweep, tally,
+    claims, experiment, failures, grids, layouts, maps, radio, readings, scale, seeds, sensitivity, stats, sweep, tally,
 };
 pub use supervise::{launch, run};
 pub use write::{figures, heatmap, output, panels, plot, replay, report, routes, rundir, spread, staging};

@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
+use gridswarm::scenario::StartRule;
 use gridswarm_orchestrator::error::EXIT_INCOMPLETE;
 use gridswarm_orchestrator::experiment::{
     self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_MAX_ROUNDS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
@@ -116,6 +117,10 @@ enum Command {
         /// Print every claim's evidence, not only its verdict (claims.txt always has it).
         #[arg(long, conflicts_with = "grids")]
         verbose: bool,
+        /// Where the robots start: `fixed` (the scenario's [starts], Fig. 5) or `random` (drawn
+        /// from each run's seed, the same layout for every algorithm of a run index).
+        #[arg(long, value_name = "RULE", default_value_t = StartRule::Fixed, conflicts_with = "grids")]
+        starts: StartRule,
     },
     /// Write (or rewrite) DIR/replay.html, the page that plays a run back,
     /// from the files a run wrote there; prints the page's path.
@@ -503,6 +508,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             kind: None,
             maps,
             verbose,
+            starts,
         } => {
             let opts = ExperimentOptions {
                 scenario,
@@ -516,6 +522,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 progress: experiment::stderr_is_terminal(),
                 maps,
                 verbose,
+                starts,
             };
             let (_, text) = experiment::run(&opts)?;
             emit(&text);
