@@ -122,6 +122,17 @@ enum Command {
         #[arg(long, value_name = "RULE", default_value_t = StartRule::Fixed, conflicts_with = "grids")]
         starts: StartRule,
     },
+    /// Repeat the command that wrote DIR from its provenance (the recorded command line and
+    /// scenario text, not the scenario file) into a new folder, and check that the outputs
+    /// that must repeat (results.csv, runs.csv, trajectories.jsonl, ...) have the same bytes.
+    /// Exits 1 naming every file that differs.
+    Rerun {
+        /// A folder written by simulate --out, run --out or an experiment.
+        dir: PathBuf,
+        /// Where to write the rerun [default: DIR/rerun].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Write (or rewrite) DIR/replay.html, the page that plays a run back,
     /// from the files a run wrote there; prints the page's path.
     Replay {
@@ -527,6 +538,25 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             let (_, text) = experiment::run(&opts)?;
             emit(&text);
         }
+        Command::Rerun { dir, out } => {
+            let outcome = gridswarm_orchestrator::provenance::rerun::rerun(&dir, out.as_deref())?;
+            emit(&outcome.text());
+            let differing = outcome.differing();
+            if !differing.is_empty() {
+                return Err(Error::Run(format!(
+                    "the rerun of `{}` in `{}` differs from it: {}",
+                    dir.display(),
+                    outcome.out.display(),
+                    differing.join(", ")
+                )));
+            }
+            emit(&format!(
+                "rerun of {} in {}: {} outputs the same byte for byte\n",
+                dir.display(),
+                outcome.out.display(),
+                outcome.compared.len()
+            ));
+        }
         Command::Replay { dir } => {
             emit(&format!("{}\n", gridswarm_orchestrator::replay::write(&dir)?.display()));
         }
@@ -582,6 +612,7 @@ fn finished(complete: bool) -> ExitCode {
 }
 
 fn main() -> ExitCode {
+    gridswarm_orchestrator::provenance::begin(std::env::args_os());
     // From the first line: a signal at any moment ends the command with one
     // line and exit status 1, its unfinished folders removed.
     if let Err(e) = gridswarm_orchestrator::launch::handle_signals() {

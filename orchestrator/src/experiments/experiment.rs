@@ -32,7 +32,7 @@ use crate::seeds::run_seed;
 use crate::sensitivity;
 use crate::staging::Staging;
 use crate::stats::{CellStats, RunRecord};
-use crate::{check, output, plot, report};
+use crate::{check, output, plot, provenance, report};
 
 /// The algorithms of Fig. 7, in its legend's order.
 pub const DEFAULT_ALGORITHMS: &str = "lfp,ru,sequential,repulsive";
@@ -271,6 +271,22 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             "sensitivity": readings,
             "claims": claims,
         });
+        summary[provenance::KEY] = provenance::Record {
+            scenario_arg: Some(&opts.scenario),
+            parameters: json!({
+                "algorithms": algorithms.iter().map(|p| p.name()).collect::<Vec<_>>(),
+                "robots": opts.robots,
+                "runs": opts.runs,
+                "situation": scenario.situation.number(),
+                "max_rounds": opts.max_rounds,
+                "maps": opts.maps,
+                "params": scenario.params,
+                "lfp": lfp,
+            }),
+            seeds: json!({ "base": opts.seed, "derivation": summary["seed_derivation"] }),
+            starts: json!({ "rule": opts.starts, "derivation": START_NOTE }),
+        }
+        .value()?;
         if several {
             summary["maps"] = json!(map_rows);
             summary["map_derivation"] = json!(
@@ -294,6 +310,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
                 .into_iter()
                 .flatten()
                 .chain(if several { crate::spread::sections(&map_rows, &spreads) } else { Vec::new() })
+                .chain([provenance::section(&summary[provenance::KEY])])
                 .collect(),
         });
         output::write_text(&out.join("report.html"), &report::render(&page))

@@ -326,7 +326,25 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     drop(files);
 
     let result = summary::result_of(&plan.world, &report);
-    let extra = summary::extra(&prefix, opts, (&plan, &launch), &report, &followed, killed_at_end);
+    let mut extra = summary::extra(&prefix, opts, (&plan, &launch), &report, &followed, killed_at_end);
+    extra["provenance"] = crate::provenance::of_run(
+        &opts.scenario,
+        &plan.world,
+        &plan.starts,
+        opts.starts,
+        opts.seed,
+        json!({
+            "algorithm": opts.algorithm,
+            "robots": plan.robots,
+            "situation": plan.scenario.situation.number(),
+            "max_rounds": opts.max_rounds,
+            "params": plan.world.params,
+            "lfp": plan.scenario.lfp,
+            "radio": plan.cfg.radio,
+            "faults": schedule::to_args(&plan.cfg.faults),
+            "transport": extra["transport"],
+        }),
+    )?;
     let record = RunRecord {
         scenario: &plan.scenario,
         world: &plan.world,
