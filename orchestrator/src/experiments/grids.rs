@@ -115,7 +115,15 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
     for (name, svg) in &pictures {
         output::write_text(&dir.join(format!("grids-{name}.svg")), svg)?;
     }
-    output::write_text(&dir.join("grids.html"), &report::render(&grids_report(&base, h, &rows, &text, pictures)))?;
+    let mut page = grids_report(&base, h, &rows, &text, pictures);
+    let record = crate::provenance::Record {
+        scenario_arg: Some(&opts.scenario),
+        parameters: serde_json::json!({ "params": base.params, "raster_side_m": h }),
+        seeds: serde_json::Value::Null,
+        starts: serde_json::json!({ "rule": "fixed" }),
+    };
+    crate::provenance::stamp(&dir, &mut page, &record)?;
+    output::write_text(&dir.join("grids.html"), &report::render(&page))?;
     stage.commit()?;
     let _ = writeln!(text, "wrote {}", opts.out.join("grids.csv").display());
     let _ = writeln!(text, "wrote {}", opts.out.join("grids.html").display());

@@ -34,6 +34,7 @@ use crate::error::{Error, Result};
 use crate::experiment::{place, progress_bar, record};
 use crate::heatmap::{self, Cell, Heat};
 use crate::output;
+use crate::provenance;
 use crate::report::{self, Block, Claim, Report, Section, Table};
 use crate::seeds::run_seed;
 use crate::staging::Staging;
@@ -169,9 +170,27 @@ pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
         let path = out.join("readings.svg");
         let svg = heatmap::svg(&grid.heat(&found)).map_err(|message| Error::Plot { path, message })?;
         output::write_text(&out.join("readings.svg"), &svg)?;
-        let summary = grid.summary(&scenario, &outcomes, &found);
+        let mut summary = grid.summary(&scenario, &outcomes, &found);
+        summary[provenance::KEY] = provenance::Record {
+            scenario_arg: Some(&opts.scenario),
+            parameters: json!({
+                "robots": opts.robots,
+                "runs": opts.runs,
+                "ru": opts.ru,
+                "turns": opts.turns,
+                "situation": scenario.situation.number(),
+                "max_rounds": opts.max_rounds,
+                "params": scenario.params,
+                "lfp": scenario.lfp,
+            }),
+            seeds: json!({ "bases": opts.seeds }),
+            starts: json!({ "rule": "fixed" }),
+        }
+        .value()?;
         output::write_json(&out.join("summary.json"), &summary)?;
-        output::write_text(&out.join("report.html"), &report::render(&grid.report(&summary, &outcomes, &found, svg)))
+        let mut page = grid.report(&summary, &outcomes, &found, svg);
+        page.sections.push(provenance::section(&summary[provenance::KEY]));
+        output::write_text(&out.join("report.html"), &report::render(&page))
     };
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
     Ok((found, text))

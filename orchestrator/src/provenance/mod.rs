@@ -147,6 +147,15 @@ pub fn write(dir: &Path, provenance: &Value) -> Result<()> {
     output::write_json(&dir.join(FILE), provenance)
 }
 
+/// Stamps a results folder without a summary.json: writes its
+/// `provenance.json` and adds the section to its report.
+pub fn stamp(dir: &Path, page: &mut crate::report::Report, record: &Record) -> Result<()> {
+    let v = record.value()?;
+    write(dir, &v)?;
+    page.sections.push(section(&v));
+    Ok(())
+}
+
 /// The report's section: the build, the command line, the scenario's
 /// hash and the times (the scenario's text and every parameter are in the
 /// folder's provenance, not repeated on the page).
