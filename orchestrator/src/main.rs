@@ -306,6 +306,10 @@ enum ExperimentKind {
         turns: Vec<gridswarm::lfp::Turn>,
         #[command(flatten)]
         distributed: Distributed,
+        /// Where the robots start: `fixed` (the scenario's [starts]) or `random` (drawn from
+        /// each run's seed, the same layout for every curve of a run index).
+        #[arg(long, value_name = "RULE", default_value_t = StartRule::Fixed)]
+        starts: StartRule,
         /// Output directory (created if missing).
         #[arg(long, default_value = readings::DEFAULT_OUT)]
         out: PathBuf,
@@ -439,7 +443,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
             };
             radio::run(&opts)?.1
         }
-        ExperimentKind::Readings { scenario, robots, runs, seeds, ru, turns, distributed: d, out } => {
+        ExperimentKind::Readings { scenario, robots, runs, seeds, ru, turns, distributed: d, starts, out } => {
             let opts = ReadingsOptions {
                 scenario: scenario.scenario,
                 robots: robots.0,
@@ -450,6 +454,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 situation: situation(d.situation),
                 max_rounds: d.max_rounds,
                 out,
+                starts,
                 progress,
             };
             readings::run(&opts)?.1

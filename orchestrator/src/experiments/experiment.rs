@@ -271,22 +271,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             "sensitivity": readings,
             "claims": claims,
         });
-        summary[provenance::KEY] = provenance::Record {
-            scenario_arg: Some(&opts.scenario),
-            parameters: json!({
-                "algorithms": algorithms.iter().map(|p| p.name()).collect::<Vec<_>>(),
-                "robots": opts.robots,
-                "runs": opts.runs,
-                "situation": scenario.situation.number(),
-                "max_rounds": opts.max_rounds,
-                "maps": opts.maps,
-                "params": scenario.params,
-                "lfp": lfp,
-            }),
-            seeds: json!({ "base": opts.seed, "derivation": summary["seed_derivation"] }),
-            starts: json!({ "rule": opts.starts, "derivation": START_NOTE }),
-        }
-        .value()?;
+        summary[provenance::KEY] = provenance_of(opts, &summary)?;
         if several {
             summary["maps"] = json!(map_rows);
             summary["map_derivation"] = json!(
@@ -317,6 +302,21 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     };
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
     Ok((Sweep { cells, claims, wall_time_s, robot_rounds }, text))
+}
+
+/// The sweep's provenance, its parameters as `summary` has them.
+fn provenance_of(opts: &ExperimentOptions, summary: &serde_json::Value) -> Result<serde_json::Value> {
+    let mut parameters = json!({ "maps": opts.maps });
+    for k in ["algorithms", "robots", "runs", "situation", "max_rounds", "params", "lfp"] {
+        parameters[k] = summary[k].clone();
+    }
+    provenance::Record {
+        scenario_arg: Some(&opts.scenario),
+        parameters,
+        seeds: json!({ "base": opts.seed, "derivation": summary["seed_derivation"] }),
+        starts: json!({ "rule": opts.starts, "derivation": START_NOTE }),
+    }
+    .value()
 }
 
 /// How `--starts` places the robots, for summary.json.
