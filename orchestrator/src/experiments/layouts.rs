@@ -58,3 +58,26 @@ impl Layouts {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn random_layouts_are_each_runs_own_draw_and_fixed_ones_the_scenarios() {
+        let sc = Scenario::builtin("paper").unwrap();
+        let w = sc.world();
+        let robots = [3, 5];
+        let fixed: Vec<Vec<VertexId>> = robots.iter().map(|&n| sc.start_vertices(&w, n).unwrap()).collect();
+        let maps = [(&sc, &w), (&sc, &w)];
+        let random = Layouts::new(StartRule::Random, &maps, &robots, vec![fixed.clone(); 2], (7, 4)).unwrap();
+        let same = Layouts::new(StartRule::Fixed, &maps, &robots, vec![fixed.clone(); 2], (7, 4)).unwrap();
+        for (m, r, k) in [(0, 0, 0), (0, 1, 3), (1, 0, 2), (1, 1, 1)] {
+            let seed = run_seed(7, robots[r], (m * 4 + k) as u64);
+            assert_eq!(random.of(m, r, k), sc.starts_by(&w, robots[r], StartRule::Random, seed).unwrap());
+            assert_eq!(same.of(m, r, k), fixed[r]);
+        }
+        assert_ne!(random.of(0, 1, 0), random.of(0, 1, 1), "each run index its own layout");
+        assert_ne!(random.of(0, 1, 0), random.of(1, 1, 0), "map 1 continues the run index");
+    }
+}
