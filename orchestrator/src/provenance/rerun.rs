@@ -47,6 +47,9 @@ pub struct Outcome {
     pub out: PathBuf,
     /// Files compared, each with whether it is the same.
     pub compared: Vec<(String, Verdict)>,
+    /// The recorded build, when it is not this one (then a difference may
+    /// come from the code, not from the run).
+    pub other_build: Option<String>,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -63,7 +66,10 @@ pub enum Verdict {
 impl Outcome {
     /// One line per file, then the verdict.
     pub fn text(&self) -> String {
-        let mut s = String::new();
+        let mut s = match &self.other_build {
+            Some(b) => format!("note: recorded by {b}, rerun by {} commit {}\n", super::VERSION, super::COMMIT),
+            None => String::new(),
+        };
         for (f, v) in &self.compared {
             s += &match v {
                 Verdict::Same => format!("same     {f}\n"),
@@ -126,7 +132,10 @@ pub fn rerun(dir: &Path, out: Option<&Path>) -> Result<Outcome> {
     if compared.is_empty() {
         return Err(Error::Input(format!("`{}` holds none of the outputs a rerun compares", dir.display())));
     }
-    Ok(Outcome { out, compared })
+    let recorded = (p["version"].as_str(), p["commit"].as_str());
+    let other_build = (recorded != (Some(super::VERSION), Some(super::COMMIT)))
+        .then(|| format!("{} commit {}", recorded.0.unwrap_or("?"), recorded.1.unwrap_or("?")));
+    Ok(Outcome { out, compared, other_build })
 }
 
 /// The recorded arguments after the program's name; refused when the
