@@ -7,7 +7,7 @@
 use gridswarm::grid::VertexId;
 use gridswarm::lfp::LfpParams;
 use gridswarm::outcome::{RunConfig, RunResult};
-use gridswarm::scenario::Scenario;
+use gridswarm::scenario::{Scenario, StartRule};
 use gridswarm::world::World;
 
 pub use gridswarm::assumptions::{Check, Report};
@@ -27,6 +27,12 @@ pub fn load_scenario_noted(name_or_path: &str) -> Result<(Scenario, Vec<String>)
 /// The start vertices of `robots` robots in `world`, robot `k` at index `k`.
 pub fn start_vertices(scenario: &Scenario, world: &World, robots: usize) -> Result<Vec<VertexId>> {
     scenario.start_vertices(world, robots).map_err(|e| Error::Scenario(e.to_string()))
+}
+
+/// The start vertices of a run with seed `seed` under `rule` (the fixed
+/// layout of [`start_vertices`], or one drawn from the seed).
+pub fn starts(scenario: &Scenario, world: &World, robots: usize, rule: StartRule, seed: u64) -> Result<Vec<VertexId>> {
+    scenario.starts_by(world, robots, rule, seed).map_err(|e| Error::Scenario(e.to_string()))
 }
 
 /// LFP's constants as the scenario sets them.

@@ -1,6 +1,7 @@
-//! The `gridswarm` command as a library, in four jobs, one folder each:
+//! The `gridswarm` command as a library, in five jobs, one folder each:
 //! the command line (`cli`), experiments (`experiments`), process
-//! supervision for distributed runs (`supervise`) and writers (`write`).
+//! supervision for distributed runs (`supervise`), writers (`write`), and
+//! what made an output and repeating it (`provenance`).
 //! `contract` is the one place that calls the shared crate's scenario and
 //! engine entry points; `error` the errors every job returns. The modules
 //! are re-exported at the top so that every path reads `crate::run`,
@@ -17,13 +18,14 @@ pub mod cli;
 pub mod contract;
 pub mod error;
 pub mod experiments;
+pub mod provenance;
 pub mod supervise;
 pub mod write;
 
 pub use cli::{check, faults, robots, simulate};
 pub use error::{Error, Result};
 pub use experiments::{
-    claims, experiment, failures, grids, maps, radio, readings, scale, seeds, sensitivity, stats, sweep, tally,
+    claims, experiment, failures, grids, layouts, maps, radio, readings, scale, seeds, sensitivity, stats, sweep, tally,
 };
 pub use supervise::{launch, run};
 pub use write::{figures, heatmap, output, panels, plot, replay, report, routes, rundir, spread, staging};

@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
+use gridswarm::scenario::StartRule;
 use gridswarm_orchestrator::error::EXIT_INCOMPLETE;
 use gridswarm_orchestrator::experiment::{
     self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_MAX_ROUNDS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
@@ -116,6 +117,21 @@ enum Command {
         /// Print every claim's evidence, not only its verdict (claims.txt always has it).
         #[arg(long, conflicts_with = "grids")]
         verbose: bool,
+        /// Where the robots start: `fixed` (the scenario's [starts], Fig. 5) or `random` (drawn
+        /// from each run's seed, the same layout for every algorithm of a run index).
+        #[arg(long, value_name = "RULE", default_value_t = StartRule::Fixed, conflicts_with = "grids")]
+        starts: StartRule,
+    },
+    /// Repeat the command that wrote DIR from its provenance (the recorded command line and
+    /// scenario text, not the scenario file) into a new folder, and check that the outputs
+    /// that must repeat (results.csv, runs.csv, trajectories.jsonl, ...) have the same bytes.
+    /// Exits 1 naming every file that differs.
+    Rerun {
+        /// A folder written by simulate --out, run --out or an experiment.
+        dir: PathBuf,
+        /// Where to write the rerun [default: DIR/rerun].
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Write (or rewrite) DIR/replay.html, the page that plays a run back,
     /// from the files a run wrote there; prints the page's path.
@@ -290,6 +306,10 @@ enum ExperimentKind {
         turns: Vec<gridswarm::lfp::Turn>,
         #[command(flatten)]
         distributed: Distributed,
+        /// Where the robots start: `fixed` (the scenario's [starts]) or `random` (drawn from
+        /// each run's seed, the same layout for every curve of a run index).
+        #[arg(long, value_name = "RULE", default_value_t = StartRule::Fixed)]
+        starts: StartRule,
         /// Output directory (created if missing).
         #[arg(long, default_value = readings::DEFAULT_OUT)]
         out: PathBuf,
@@ -423,7 +443,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
             };
             radio::run(&opts)?.1
         }
-        ExperimentKind::Readings { scenario, robots, runs, seeds, ru, turns, distributed: d, out } => {
+        ExperimentKind::Readings { scenario, robots, runs, seeds, ru, turns, distributed: d, starts, out } => {
             let opts = ReadingsOptions {
                 scenario: scenario.scenario,
                 robots: robots.0,
@@ -434,6 +454,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 situation: situation(d.situation),
                 max_rounds: d.max_rounds,
                 out,
+                starts,
                 progress,
             };
             readings::run(&opts)?.1
@@ -503,6 +524,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             kind: None,
             maps,
             verbose,
+            starts,
         } => {
             let opts = ExperimentOptions {
                 scenario,
@@ -516,9 +538,29 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 progress: experiment::stderr_is_terminal(),
                 maps,
                 verbose,
+                starts,
             };
             let (_, text) = experiment::run(&opts)?;
             emit(&text);
+        }
+        Command::Rerun { dir, out } => {
+            let outcome = gridswarm_orchestrator::provenance::rerun::rerun(&dir, out.as_deref())?;
+            emit(&outcome.text());
+            let differing = outcome.differing();
+            if !differing.is_empty() {
+                return Err(Error::Run(format!(
+                    "the rerun of `{}` in `{}` differs from it: {}",
+                    dir.display(),
+                    outcome.out.display(),
+                    differing.join(", ")
+                )));
+            }
+            emit(&format!(
+                "rerun of {} in {}: {} outputs the same byte for byte\n",
+                dir.display(),
+                outcome.out.display(),
+                outcome.compared.len()
+            ));
         }
         Command::Replay { dir } => {
             emit(&format!("{}\n", gridswarm_orchestrator::replay::write(&dir)?.display()));
@@ -575,6 +617,7 @@ fn finished(complete: bool) -> ExitCode {
 }
 
 fn main() -> ExitCode {
+    gridswarm_orchestrator::provenance::begin(std::env::args_os());
     // From the first line: a signal at any moment ends the command with one
     // line and exit status 1, its unfinished folders removed.
     if let Err(e) = gridswarm_orchestrator::launch::handle_signals() {

@@ -64,6 +64,8 @@ mod raw;
 mod starts;
 mod write;
 
+pub use starts::StartRule;
+
 pub use file::{MAX_FILE_BYTES, MAX_IMAGE_BYTES};
 pub(crate) use gaps::{boundary_gap_of, self_passages, shape_gap, Gap};
 pub(crate) use pairs::near as near_pairs;
@@ -251,5 +253,26 @@ impl Scenario {
             Starts::Border { from } => starts::border(world, *from, robots, &file),
             Starts::Points(pts) => starts::points(world, pts, robots, &file),
         }
+    }
+
+    /// Start vertices for `robots` robots of a run with seed `seed` under
+    /// `rule`: [`Scenario::start_vertices`] when fixed; when random, drawn
+    /// from the seed alone ([`StartRule::Random`]), with the same errors as
+    /// the fixed layout (a count the map cannot hold).
+    pub fn starts_by(
+        &self,
+        world: &World,
+        robots: usize,
+        rule: StartRule,
+        seed: u64,
+    ) -> Result<Vec<VertexId>, ScenarioError> {
+        let fixed = self.start_vertices(world, robots)?;
+        Ok(match rule {
+            StartRule::Fixed => fixed,
+            StartRule::Random => {
+                let border = matches!(self.starts, Starts::Border { .. });
+                starts::random(world, &fixed, robots, border, seed)
+            }
+        })
     }
 }

@@ -136,6 +136,28 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
     assert_eq!(compared, 25);
 }
 
+/// With `--starts random` the world-server draws the layout from the seed
+/// as `simulate` does: the same layout, the same run, and not the fixed one.
+#[test]
+fn same_trajectories_as_simulate_with_random_starts() {
+    let _s = serial();
+    let dir = scratch("random-starts");
+    for (policy, seed) in [("repulsive", "4"), ("escape", "9")] {
+        let args = ["--algorithm", policy, "--robots", "6", "--seed", seed, "--starts", "random"];
+        let tag = format!("random starts, {policy}, seed {seed}");
+        let (d, s, f) = (dir.join(format!("run-{policy}")), dir.join(format!("sim-{policy}")), dir.join(policy));
+        let summary = run_into(&d, &args);
+        search(&[&["simulate", "--out", s.to_str().unwrap()][..], &args[..]].concat());
+        assert_same_run(&tag, &d, &s, &summary);
+        let sim: Value = serde_json::from_slice(&fs::read(s.join("summary.json")).unwrap()).unwrap();
+        assert_eq!(summary["starts"], sim["starts"], "{tag}");
+        assert_eq!(summary["start_rule"], "random", "{tag}");
+        search(&["simulate", "--out", f.to_str().unwrap(), "--algorithm", policy, "--robots", "6", "--seed", seed]);
+        let fixed: Value = serde_json::from_slice(&fs::read(f.join("summary.json")).unwrap()).unwrap();
+        assert_ne!(fixed["starts"], sim["starts"], "{tag}: drawn, not the scenario's layout");
+    }
+}
+
 /// Under the fixed slot rule the world closes every slot at the robots'
 /// clocks' time, commanded or not: both engines still make the same run,
 /// with faults too (a robot slow by 5 s misses its slots' ends).

@@ -129,7 +129,7 @@ fn load(path: &PathBuf) -> Result<Loaded, String> {
     }
     gridswarm::sim::schedule::check(&run.config.faults, run.robots)?;
     let world = scenario.world();
-    let starts = scenario.start_vertices(&world, run.robots).map_err(|e| e.to_string())?;
+    let starts = scenario.starts_by(&world, run.robots, run.starts, run.config.seed).map_err(|e| e.to_string())?;
     Ok((run, world, starts, id))
 }
 

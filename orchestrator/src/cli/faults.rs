@@ -1,6 +1,7 @@
 //! The failure and radio flags of `simulate` and `run` (`--kill`,
 //! `--freeze`, `--kill-random`, `--slow`, `--loss`, `--retries`, `--delay`,
-//! `--dup`), defined once, and their one conversion into what an engine
+//! `--dup`), and the run's other settings beyond its identity (`--slot`,
+//! `--starts`), defined once, and their one conversion into what an engine
 //! runs with: the faults and radio of a [`RunConfig`] (in-process) or a
 //! [`RunOptions`] (distributed). Times and shapes are parsed by
 //! [`gridswarm::sim::schedule`]; what needs the run (robot ids, one failure
@@ -10,6 +11,7 @@
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::{Params, Situation, SlotRule};
 use gridswarm::policy::Policy;
+use gridswarm::scenario::StartRule;
 use gridswarm::sim::{schedule, Fault, Radio, Time};
 
 use crate::error::{Error, Result};
@@ -63,6 +65,10 @@ pub struct FaultFlags {
     /// commanded) or `fixed` (the robots' clocks) [default: the scenario's params.slot].
     #[arg(long, value_name = "RULE")]
     pub slot: Option<SlotRule>,
+    /// Where the robots start: `fixed` (the scenario's [starts], as in Fig. 5) or `random`
+    /// (distinct vertices drawn from the seed, on the border when the scenario starts there).
+    #[arg(long, value_name = "RULE", default_value_t = StartRule::Fixed)]
+    pub starts: StartRule,
 }
 
 /// What the flags ask for, independent of clap.
@@ -77,6 +83,9 @@ pub struct FaultPlan {
     pub retries: Option<u32>,
     /// Overrides the scenario's `params.slot`.
     pub slot: Option<SlotRule>,
+    /// Where the robots start; it applies to every algorithm, so
+    /// [`FaultPlan::is_empty`] leaves it out.
+    pub starts: StartRule,
 }
 
 impl FaultFlags {
@@ -91,6 +100,7 @@ impl FaultFlags {
             radio: Radio { loss: self.loss, delay, jitter, dup: self.dup },
             retries: self.retries,
             slot: self.slot,
+            starts: self.starts,
         }
     }
 }
@@ -191,6 +201,7 @@ impl FaultPlan {
             kill_random: self.kill_random,
             out: base.out,
             json: base.json,
+            starts: self.starts,
             net: Default::default(),
         }
     }

@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::faults::FaultPlan;
 use crate::rundir::{self, RunRecord};
 use crate::staging::Staging;
-use crate::{check, output};
+use crate::{check, output, provenance};
 
 #[derive(Clone, Debug)]
 pub struct SimulateOptions {
@@ -65,7 +65,7 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     let frames = limits::frame_factor(cfg.radio.is_perfect(), cfg.radio.dup);
     let (max_rounds, budget) =
         round_limit(opts.max_rounds, &world, robots, opts.algorithm, frames).map_err(Error::Input)?;
-    let starts = contract::start_vertices(&scenario, &world, robots)?;
+    let starts = contract::starts(&scenario, &world, robots, opts.faults.starts, opts.seed)?;
     for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
         eprintln!("{w}");
     }
@@ -90,6 +90,17 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
         "radio": cfg.radio,
         "retries": world.params.retries,
         "faults": gridswarm::sim::schedule::to_args(&cfg.faults),
+        "start_rule": opts.faults.starts,
+        "provenance": provenance::of_run(&opts.scenario, &world, &starts, opts.faults.starts, opts.seed, json!({
+            "algorithm": opts.algorithm,
+            "robots": robots,
+            "situation": scenario.situation.number(),
+            "max_rounds": max_rounds,
+            "params": world.params,
+            "lfp": lfp,
+            "radio": cfg.radio,
+            "faults": gridswarm::sim::schedule::to_args(&cfg.faults),
+        }))?,
     });
     let record = RunRecord { scenario: &scenario, world: &world, starts: &starts, lfp: &lfp, result: &result, extra };
     let summary = record.summary();

@@ -16,7 +16,7 @@ use gridswarm::grid::VertexId;
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
-use gridswarm::scenario::Scenario;
+use gridswarm::scenario::{Scenario, StartRule};
 use gridswarm::world::World;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
@@ -25,13 +25,14 @@ use serde_json::json;
 use crate::claims::{self, ClaimResult};
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
+use crate::layouts::Layouts;
 use crate::maps;
 use crate::robots::compress;
 use crate::seeds::run_seed;
 use crate::sensitivity;
 use crate::staging::Staging;
 use crate::stats::{CellStats, RunRecord};
-use crate::{check, output, plot, report};
+use crate::{check, output, plot, provenance, report};
 
 /// The algorithms of Fig. 7, in its legend's order.
 pub const DEFAULT_ALGORITHMS: &str = "lfp,ru,sequential,repulsive";
@@ -57,6 +58,8 @@ pub struct ExperimentOptions {
     pub maps: Option<u32>,
     /// Print every claim's evidence, not only its verdict (claims.txt has it always).
     pub verbose: bool,
+    /// Where the robots start: the scenario's layout, or drawn per run.
+    pub starts: StartRule,
 }
 
 impl ExperimentOptions {
@@ -75,6 +78,7 @@ impl ExperimentOptions {
             progress: false,
             maps: None,
             verbose: false,
+            starts: StartRule::Fixed,
         }
     }
 }
@@ -135,11 +139,19 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     let stage = Staging::begin(&opts.out)?;
     let worlds: Vec<World> = maps.iter().map(|m| m.scenario.world()).collect();
     let lfp = contract::lfp_params(&scenario);
-    let starts =
+    let fixed =
         maps.iter().zip(&worlds).map(|(m, w)| place(&m.scenario, w, &opts.robots)).collect::<Result<Vec<_>>>()?;
+    let pairs: Vec<(&Scenario, &World)> = maps.iter().map(|m| &m.scenario).zip(&worlds).collect();
+    let starts = Layouts::new(opts.starts, &pairs, &opts.robots, fixed, (opts.seed, opts.runs as usize))?;
 
     let started = Instant::now();
-    let plan = Plan { algorithms: &algorithms, robots: &opts.robots, starts: &starts, runs: opts.runs as usize };
+    let plan = Plan {
+        algorithms: &algorithms,
+        robots: &opts.robots,
+        starts: &starts,
+        maps: maps.len(),
+        runs: opts.runs as usize,
+    };
     let runners: Vec<Runner> =
         maps.iter().zip(&worlds).map(|(m, w)| Runner::new(w, contract::lfp_params(&m.scenario))).collect();
     let records = plan.execute(&runners, scenario.situation, opts);
@@ -161,7 +173,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         scenario: &maps[0].scenario,
         world: &worlds[0],
         robots: &opts.robots,
-        starts: &starts[0],
+        starts: &starts,
         seed: opts.seed,
         max_rounds: opts.max_rounds,
     };
@@ -179,7 +191,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     let claims_text = incomplete_note(&cells, opts.max_rounds) + &claims::render(&claims);
     let maps_line = if several { maps::summary_line(&maps) } else { String::new() };
     let setup = format!(
-        "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {}, max {} rounds\n\
+        "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {}, max {} rounds, {} starts\n\
          {maps_line}params: {}\nlfp: {}\n",
         output::shown(&scenario.name),
         scenario.grid.name(),
@@ -192,6 +204,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         },
         opts.seed,
         opts.max_rounds,
+        opts.starts,
         serde_json::to_string(&scenario.params).expect("params serialise"),
         serde_json::to_string(&lfp).expect("lfp params serialise"),
     );
@@ -245,6 +258,8 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             "seed_derivation": "run k with N robots has seed derive(derive(seed, N), k) with gridswarm::rng::derive, \
                 the same for every algorithm (common random numbers: claims compare runs pairwise)",
             "max_rounds": opts.max_rounds,
+            "starts": opts.starts,
+            "start_derivation": START_NOTE,
             "transport": super::sweep::Engine::InProcess.transport(),
             "params": scenario.params,
             "lfp": lfp,
@@ -256,6 +271,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             "sensitivity": readings,
             "claims": claims,
         });
+        summary[provenance::KEY] = provenance_of(opts, &summary)?;
         if several {
             summary["maps"] = json!(map_rows);
             summary["map_derivation"] = json!(
@@ -279,6 +295,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
                 .into_iter()
                 .flatten()
                 .chain(if several { crate::spread::sections(&maps, &map_rows, &spreads) } else { Vec::new() })
+                .chain([provenance::section(&summary[provenance::KEY])])
                 .collect(),
         });
         output::write_text(&out.join("report.html"), &report::render(&page))
@@ -286,6 +303,26 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
     Ok((Sweep { cells, claims, wall_time_s, robot_rounds }, text))
 }
+
+/// The sweep's provenance, its parameters as `summary` has them.
+fn provenance_of(opts: &ExperimentOptions, summary: &serde_json::Value) -> Result<serde_json::Value> {
+    let mut parameters = json!({ "maps": opts.maps });
+    for k in ["algorithms", "robots", "runs", "situation", "max_rounds", "params", "lfp"] {
+        parameters[k] = summary[k].clone();
+    }
+    provenance::Record {
+        scenario_arg: Some(&opts.scenario),
+        parameters,
+        seeds: json!({ "base": opts.seed, "derivation": summary["seed_derivation"] }),
+        starts: json!({ "rule": opts.starts, "derivation": START_NOTE }),
+    }
+    .value()
+}
+
+/// How `--starts` places the robots, for summary.json.
+pub const START_NOTE: &str = "fixed: the scenario's [starts] for every run; random: run k draws distinct vertices \
+    from its own seed (on the border when the scenario starts there, else anywhere the fixed layout reaches), \
+    the same layout for every algorithm";
 
 /// How the oracle's reference times are made, for summary.json and reports.
 pub const ORACLE_NOTE: &str = "the oracle (a centralized planner that knows the map, not the targets) at each \
@@ -323,7 +360,7 @@ fn oracle_reference(
             cfg.max_rounds = opts.max_rounds;
             cfg.record_trajectories = false;
             cfg.measure_coverage = false;
-            let res = runners[m].run(&plan.starts[m][r], &cfg);
+            let res = runners[m].run(plan.starts.of(m, r, k), &cfg);
             (r, res.complete.then_some(res.search_time_s))
         })
         .collect();
@@ -404,8 +441,8 @@ pub fn record(
 struct Plan<'a> {
     algorithms: &'a [Policy],
     robots: &'a [usize],
-    /// `starts[map][robot-count index]`.
-    starts: &'a [Vec<Vec<VertexId>>],
+    starts: &'a Layouts,
+    maps: usize,
     runs: usize,
 }
 
@@ -423,7 +460,7 @@ impl Plan<'_> {
     /// (map, algorithm index, robot-count index, run index) of each run, in order.
     fn jobs(&self) -> Vec<(usize, usize, usize, usize)> {
         let (na, nr, runs) = (self.algorithms.len(), self.robots.len(), self.runs);
-        (0..self.starts.len())
+        (0..self.maps)
             .flat_map(|m| (0..na).flat_map(move |a| (0..nr).flat_map(move |r| (0..runs).map(move |k| (m, a, r, k)))))
             .collect()
     }
@@ -455,7 +492,8 @@ impl Plan<'_> {
                 // Map 0 keeps the seeds of a one-map sweep; each later map
                 // continues the run index, so no two runs share a seed.
                 let seed = run_seed(opts.seed, self.robots[r], (m * self.runs + k) as u64);
-                let rec = record(&runners[m], &self.starts[m][r], self.algorithms[a], seed, situation, opts.max_rounds);
+                let starts = self.starts.of(m, r, k);
+                let rec = record(&runners[m], starts, self.algorithms[a], seed, situation, opts.max_rounds);
                 bar.inc(1);
                 rec
             })

@@ -120,7 +120,16 @@ pub fn run(opts: &GridsOptions) -> Result<(Vec<GridRow>, String)> {
         output::write_text(&dir.join(&file), svg)?;
         written.push(file);
     }
-    output::write_text(&dir.join("grids.html"), &report::render(&grids_report(&base, h, &rows, &text, pictures)))?;
+    let mut page = grids_report(&base, h, &rows, &text, pictures);
+    let record = crate::provenance::Record {
+        scenario_arg: Some(&opts.scenario),
+        parameters: serde_json::json!({ "params": base.params, "raster_side_m": h }),
+        seeds: serde_json::Value::Null,
+        starts: serde_json::json!({ "rule": "fixed" }),
+    };
+    crate::provenance::stamp(&dir, &mut page, &record)?;
+    written.push(crate::provenance::FILE.into());
+    output::write_text(&dir.join("grids.html"), &report::render(&page))?;
     written.push("grids.html".into());
     stage.commit()?;
     for file in written {

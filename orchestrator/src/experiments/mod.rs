@@ -1,7 +1,7 @@
 //! Experiments: many runs, their statistics and their claims. The Fig. 7
 //! sweep (`experiment`), `failures`, `radio`, `scale`, the lattice
 //! comparison (`grids`), the paper's claims, and the pieces they share:
-//! running jobs on either engine (`sweep`), reading a run's figures
+//! running jobs on either engine (`sweep`), where runs start (`layouts`), reading a run's figures
 //! (`tally`), statistics, seeds, the maps a sweep runs on (`maps`), and how
 //! much a sweep depends on the paper's readings (`sensitivity`), and the
 //! claims re-evaluated over a grid of those readings (`readings`).
@@ -10,6 +10,7 @@ pub mod claims;
 pub mod experiment;
 pub mod failures;
 pub mod grids;
+pub mod layouts;
 pub mod maps;
 pub mod radio;
 pub mod readings;

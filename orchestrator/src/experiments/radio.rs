@@ -339,7 +339,16 @@ impl Page<'_> {
         let svg = figure(self.rows, &self.opts.loss, &title)
             .map_err(|message| Error::Plot { path: svg_path.clone(), message })?;
         output::write_text(&svg_path, &svg)?;
-        output::write_text(&out.join("report.html"), &report::render(&self.report(svg)))
+        let mut page = self.report(svg);
+        let params = self.params();
+        let record = crate::provenance::Record {
+            scenario_arg: Some(&self.opts.protocol.scenario),
+            seeds: json!({ "base": params["seed"], "derivation": params["seed_derivation"] }),
+            parameters: params,
+            starts: json!({ "rule": "fixed" }),
+        };
+        crate::provenance::stamp(out, &mut page, &record)?;
+        output::write_text(&out.join("report.html"), &report::render(&page))
     }
 
     fn report(&self, svg: String) -> Report {

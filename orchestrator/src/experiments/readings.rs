@@ -22,7 +22,7 @@ use std::time::Instant;
 use gridswarm::lfp::Turn;
 use gridswarm::params::{RuCollisions, Situation};
 use gridswarm::policy::Policy;
-use gridswarm::scenario::Scenario;
+use gridswarm::scenario::{Scenario, StartRule};
 use gridswarm::world::World;
 use plotters::style::RGBColor;
 use rayon::prelude::*;
@@ -33,7 +33,9 @@ use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
 use crate::experiment::{place, progress_bar, record};
 use crate::heatmap::{self, Cell, Heat};
+use crate::layouts::Layouts;
 use crate::output;
+use crate::provenance;
 use crate::report::{self, Block, Claim, Report, Section, Table};
 use crate::seeds::run_seed;
 use crate::staging::Staging;
@@ -58,6 +60,8 @@ pub struct ReadingsOptions {
     pub max_rounds: u32,
     pub out: PathBuf,
     pub progress: bool,
+    /// Where the robots start: the scenario's layout, or drawn per run.
+    pub starts: StartRule,
 }
 
 /// A turning law as the grid and `[lfp] turn` name it.
@@ -142,7 +146,20 @@ pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
     let curves = curves(opts);
     let worlds: Vec<World> = opts.ru.iter().map(|&r| with_ru(&scenario, r).world()).collect();
     let base_world = scenario.world();
-    let starts = place(&scenario, &base_world, &opts.robots)?;
+    let fixed = place(&scenario, &base_world, &opts.robots)?;
+    // One set of layouts per base seed; the RU readings' worlds differ from
+    // the base world in a parameter only, so its vertices are theirs too.
+    let starts = (opts.seeds.iter())
+        .map(|&s| {
+            Layouts::new(
+                opts.starts,
+                &[(&scenario, &base_world)],
+                &opts.robots,
+                vec![fixed.clone()],
+                (s, opts.runs as usize),
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
     let runners: Vec<Runner> = curves
         .iter()
         .map(|c| {
@@ -169,9 +186,27 @@ pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
         let path = out.join("readings.svg");
         let svg = heatmap::svg(&grid.heat(&found)).map_err(|message| Error::Plot { path, message })?;
         output::write_text(&out.join("readings.svg"), &svg)?;
-        let summary = grid.summary(&scenario, &outcomes, &found);
+        let mut summary = grid.summary(&scenario, &outcomes, &found);
+        summary[provenance::KEY] = provenance::Record {
+            scenario_arg: Some(&opts.scenario),
+            parameters: json!({
+                "robots": opts.robots,
+                "runs": opts.runs,
+                "ru": opts.ru,
+                "turns": opts.turns,
+                "situation": scenario.situation.number(),
+                "max_rounds": opts.max_rounds,
+                "params": scenario.params,
+                "lfp": scenario.lfp,
+            }),
+            seeds: json!({ "bases": opts.seeds }),
+            starts: json!({ "rule": opts.starts, "derivation": crate::experiment::START_NOTE }),
+        }
+        .value()?;
         output::write_json(&out.join("summary.json"), &summary)?;
-        output::write_text(&out.join("report.html"), &report::render(&grid.report(&summary, &outcomes, &found, svg)))
+        let mut page = grid.report(&summary, &outcomes, &found, svg);
+        page.sections.push(provenance::section(&summary[provenance::KEY]));
+        output::write_text(&out.join("report.html"), &report::render(&page))
     };
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
     Ok((found, text))
@@ -228,7 +263,7 @@ fn execute(
     opts: &ReadingsOptions,
     curves: &[Curve],
     runners: &[Runner],
-    starts: &[Vec<gridswarm::grid::VertexId>],
+    starts: &[Layouts],
     situation: Situation,
 ) -> Vec<RunRecord> {
     let (nc, nr, runs) = (curves.len(), opts.robots.len(), opts.runs as usize);
@@ -240,7 +275,7 @@ fn execute(
         .par_iter()
         .map(|&(s, c, r, k)| {
             let seed = run_seed(opts.seeds[s], opts.robots[r], k as u64);
-            let rec = record(&runners[c], &starts[r], curves[c].policy, seed, situation, opts.max_rounds);
+            let rec = record(&runners[c], starts[s].of(0, r, k), curves[c].policy, seed, situation, opts.max_rounds);
             bar.inc(1);
             rec
         })
@@ -499,6 +534,7 @@ impl Grid<'_> {
             "ru_readings": o.ru.iter().map(|r| r.name()).collect::<Vec<_>>(),
             "turns": o.turns.iter().map(|&t| turn_name(t)).collect::<Vec<_>>(),
             "max_rounds": o.max_rounds,
+            "starts": o.starts,
             "params": varied(json!(scenario.params), "ru_collisions", "varied: see ru_readings"),
             "lfp": varied(json!(scenario.lfp), "turn", "varied: see turns"),
             "region_all_three_hold": found.region.iter().map(|(r, t)| json!({"ru_collisions": r.name(), "turn": turn_name(*t)})).collect::<Vec<_>>(),

@@ -503,7 +503,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
                 .into(),
         ));
     }
-    let page = Report {
+    let mut page = Report {
         title: "Scaling: one process per robot".into(),
         subtitle: format!(
             "robots {}, {} run(s) each, base seed {}, {} cores; {} distributed runs in {:.1} s wall time",
@@ -538,6 +538,13 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
             ),
         ],
     };
+    let record = crate::provenance::Record {
+        scenario_arg: opts.scenario.as_deref(),
+        parameters: params.clone(),
+        seeds: json!({ "base": opts.seed }),
+        starts: json!({ "rule": "fixed" }),
+    };
+    crate::provenance::stamp(out, &mut page, &record)?;
     output::write_text(&out.join("report.html"), &report::render(&page))?;
     stage.commit()?;
     let text = format!(

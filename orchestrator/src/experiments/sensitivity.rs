@@ -7,7 +7,6 @@
 //! `experiment readings` ([`crate::readings`]) re-evaluates the claims over
 //! a grid of readings at full size.
 
-use gridswarm::grid::VertexId;
 use gridswarm::lfp::{RepelRange, Turn};
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::{RuCollisions, Situation};
@@ -18,6 +17,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::contract::Runner;
+use crate::layouts::Layouts;
 use crate::seeds::run_seed;
 
 /// Runs per robot count and alternative reading: enough to see a factor,
@@ -67,12 +67,12 @@ const ALTERNATIVES: [Alternative; 5] = [
 ];
 
 /// The sweep whose readings are varied: its first map's scenario and
-/// world, starts (`starts[r]` for `robots[r]`), seed and round limit.
+/// world, starts (map 0's of [`Layouts`]), seed and round limit.
 pub struct Sweep<'a> {
     pub scenario: &'a Scenario,
     pub world: &'a World,
     pub robots: &'a [usize],
-    pub starts: &'a [Vec<VertexId>],
+    pub starts: &'a Layouts,
     pub seed: u64,
     pub max_rounds: u32,
 }
@@ -105,7 +105,7 @@ pub fn run(
                 .filter_map(|k| {
                     let cfg =
                         config(alt.algorithm, run_seed(sweep.seed, n, k as u64), scenario.situation, sweep.max_rounds);
-                    let res = changed.run(&sweep.starts[r], &cfg);
+                    let res = changed.run(sweep.starts.of(0, r, k), &cfg);
                     res.complete.then_some(res.search_time_s)
                 })
                 .collect();

@@ -4,6 +4,7 @@
 //! one distributed run after another through [`crate::run::execute_as`].
 //! Both give the same [`ProtoRun`]s for the same jobs.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,7 +13,7 @@ use gridswarm::grid::VertexId;
 use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
-use gridswarm::scenario::Scenario;
+use gridswarm::scenario::{Scenario, StartRule};
 use gridswarm::world::World;
 use rayon::prelude::*;
 
@@ -190,10 +191,25 @@ impl Worlds {
         }
         Ok(w)
     }
+
+    /// Each job's start vertices: the fixed layout, or its own draw when
+    /// its plan asks for random starts (as `run` would draw them).
+    fn starts_of<'a>(&'a self, scenario: &Scenario, jobs: &[Job]) -> Result<Vec<Cow<'a, [VertexId]>>> {
+        jobs.iter()
+            .map(|j| {
+                let key = j.plan.retries;
+                Ok(match j.plan.starts {
+                    StartRule::Fixed => Cow::Borrowed(&self.starts[&(key, j.robots)][..]),
+                    rule => Cow::Owned(contract::starts(scenario, &self.worlds[&key], j.robots, rule, j.seed)?),
+                })
+            })
+            .collect()
+    }
 }
 
 fn in_process(setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<ProtoRun>> {
     let worlds = Worlds::build(setting.scenario, jobs)?;
+    let starts = worlds.starts_of(setting.scenario, jobs)?;
     let lfp = contract::lfp_params(setting.scenario);
     let mut cfgs = Vec::with_capacity(jobs.len());
     for j in jobs {
@@ -208,11 +224,10 @@ fn in_process(setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<Pro
     let bar = progress_bar(jobs.len() as u64, progress);
     let runs = jobs
         .par_iter()
-        .zip(cfgs.par_iter())
-        .map(|(j, cfg)| {
-            let key = j.plan.retries;
-            let runner = Runner::new(&worlds.worlds[&key], lfp);
-            let r = ProtoRun::of(&runner.run(&worlds.starts[&(key, j.robots)], cfg));
+        .zip(cfgs.par_iter().zip(&starts))
+        .map(|(j, (cfg, s))| {
+            let runner = Runner::new(&worlds.worlds[&j.plan.retries], lfp);
+            let r = ProtoRun::of(&runner.run(s, cfg));
             bar.inc(1);
             r
         })
@@ -246,4 +261,34 @@ fn distributed(setting: &Setting, jobs: &[Job], progress: bool) -> Result<Vec<Pr
         eprintln!("{w}");
     }
     Ok(runs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A job's plan decides its starts in-process as `run` does: a random
+    /// one runs from its own seed's draw, not from the fixed layout.
+    #[test]
+    fn in_process_jobs_start_where_their_plan_says() {
+        let scenario = Scenario::builtin("paper").unwrap();
+        let setting =
+            Setting { scenario_arg: "paper", scenario: &scenario, algorithm: Policy::Repulsive, max_rounds: 5000 };
+        let job = |starts| Job {
+            robots: 4,
+            seed: 3,
+            plan: FaultPlan { starts, ..FaultPlan::default() },
+            what: String::new(),
+        };
+        let runs = in_process(&setting, &[job(StartRule::Fixed), job(StartRule::Random)], false).unwrap();
+        let world = scenario.world();
+        let drawn = contract::starts(&scenario, &world, 4, StartRule::Random, 3).unwrap();
+        let mut cfg = RunConfig::new(Policy::Repulsive, 3, scenario.situation);
+        cfg.max_rounds = 5000;
+        cfg.record_trajectories = false;
+        cfg.measure_coverage = false;
+        let direct = ProtoRun::of(&Runner::new(&world, scenario.lfp).run(&drawn, &cfg));
+        assert_eq!(runs[1], direct);
+        assert_ne!(runs[0], runs[1], "the fixed layout is another run");
+    }
 }

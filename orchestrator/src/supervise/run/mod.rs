@@ -36,7 +36,7 @@ use gridswarm::outcome::{RunConfig, RunResult};
 use gridswarm::params::Situation;
 use gridswarm::params::SlotRule;
 use gridswarm::policy::Policy;
-use gridswarm::scenario::Scenario;
+use gridswarm::scenario::{Scenario, StartRule};
 use gridswarm::sim::{self, schedule, Fault};
 use gridswarm::world::World;
 use serde_json::{json, Value};
@@ -85,6 +85,8 @@ pub struct RunOptions {
     pub json: bool,
     /// iceoryx2 or zenoh, and where zenoh's processes meet.
     pub net: NetOptions,
+    /// Where the robots start (the world-server places them by the same rule).
+    pub starts: StartRule,
 }
 
 impl RunOptions {
@@ -114,6 +116,7 @@ impl RunOptions {
             out: None,
             json: true,
             net: NetOptions::default(),
+            starts: StartRule::Fixed,
         }
     }
 }
@@ -214,7 +217,7 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
     let mut faults = opts.faults.clone();
     faults.extend(schedule::kill_random(opts.seed, robots, opts.kill_random, &taken).map_err(Error::Usage)?);
     let world = scenario.world();
-    let starts = contract::start_vertices(&scenario, &world, robots)?;
+    let starts = contract::starts(&scenario, &world, robots, opts.starts, opts.seed)?;
     let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
     cfg.max_rounds = opts.max_rounds;
     cfg.radio = opts.radio;
@@ -276,6 +279,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         robots: plan.robots,
         retries: opts.retries,
         slot: opts.slot,
+        starts: opts.starts,
         config: plan.cfg.clone(),
     };
     files.write(&run_file, &plan.world, &plan.cfg, &plan.agreement(&prefix))?;
@@ -322,7 +326,25 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     drop(files);
 
     let result = summary::result_of(&plan.world, &report);
-    let extra = summary::extra(&prefix, opts, (&plan, &launch), &report, &followed, killed_at_end);
+    let mut extra = summary::extra(&prefix, opts, (&plan, &launch), &report, &followed, killed_at_end);
+    extra["provenance"] = crate::provenance::of_run(
+        &opts.scenario,
+        &plan.world,
+        &plan.starts,
+        opts.starts,
+        opts.seed,
+        json!({
+            "algorithm": opts.algorithm,
+            "robots": plan.robots,
+            "situation": plan.scenario.situation.number(),
+            "max_rounds": opts.max_rounds,
+            "params": plan.world.params,
+            "lfp": plan.scenario.lfp,
+            "radio": plan.cfg.radio,
+            "faults": schedule::to_args(&plan.cfg.faults),
+            "transport": extra["transport"],
+        }),
+    )?;
     let record = RunRecord {
         scenario: &plan.scenario,
         world: &plan.world,

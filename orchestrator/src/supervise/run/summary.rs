@@ -126,6 +126,7 @@ pub fn extra(
         "radio": plan.cfg.radio,
         "retries": plan.world.params.retries,
         "faults": schedule::to_args(&plan.cfg.faults),
+        "start_rule": opts.starts,
         "failures_injected": injected(&plan.cfg, &f.applied),
         "failures_detected": detected(r),
         "refused_moves": r.protocol.refused,
