@@ -344,7 +344,7 @@ impl Page<'_> {
     fn text(&self) -> String {
         format!(
             "failures: scenario {}, {} robots, algorithm {}, {} runs per count, base seed {}, engine {}\n{}\n\
-             {} runs in {:.1} s; wrote failures.csv, failures-runs.csv, failures.svg, report.html in {}\n",
+             {} runs in {:.1} s; wrote failures.csv, failures-runs.csv, failures.svg, report.html, provenance.json in {}\n",
             crate::output::shown(&self.scenario.name),
             self.robots,
             self.opts.protocol.algorithm,

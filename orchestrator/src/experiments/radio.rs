@@ -388,7 +388,7 @@ impl Page<'_> {
     fn text(&self) -> String {
         format!(
             "radio: scenario {}, algorithm {}, {} runs per point, base seed {}, engine {}\n{}\n\
-             {} runs in {:.1} s; wrote radio.csv, radio-runs.csv, radio.svg, report.html in {}\n",
+             {} runs in {:.1} s; wrote radio.csv, radio-runs.csv, radio.svg, report.html, provenance.json in {}\n",
             crate::output::shown(&self.scenario.name),
             self.opts.protocol.algorithm,
             self.runs_per,

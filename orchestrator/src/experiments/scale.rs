@@ -549,7 +549,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
     stage.commit()?;
     let text = format!(
         "scale: algorithm {}, robots {}, {} run(s) each, base seed {}\n{}\n\
-         {} runs in {wall_time_s:.1} s; wrote scale.csv, scale-runs.csv, scale.svg, report.html in {}\n",
+         {} runs in {wall_time_s:.1} s; wrote scale.csv, scale-runs.csv, scale.svg, report.html, provenance.json in {}\n",
         opts.algorithm,
         opts.robots.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(","),
         opts.runs,
