@@ -37,10 +37,7 @@ fn main() {
         "delay_ms,jitter_ms,faults,runs,moves,collisions,per_1e6_moves,zero_means_below_per_1e6,unsure_per_robot_round,complete"
     );
     for delay in DELAYS_MS {
-        for jitter in [0, delay / 2] {
-            if delay == 0 && jitter > 0 {
-                continue;
-            }
+        for jitter in if delay == 0 { vec![0] } else { vec![0, delay / 2] } {
             for faults in [false, true] {
                 let (mut moves, mut collisions, mut unsure, mut robot_rounds, mut complete) = (0, 0, 0, 0, 0);
                 for i in 0..runs {

@@ -53,6 +53,10 @@ mod filter;
 /// the defaults 1 s: a map later than that reads as a dead neighbour).
 pub const MAX_WIDEN: Time = 20;
 
+/// For how many slots a robot stays after it heard a map later than its
+/// widest window (a radio that late some of the time may be again).
+pub const TOO_SLOW_SLOTS: u32 = 10;
+
 /// How long a robot with robots next to it and no map ever heard stays,
 /// in widest windows, before it reads its neighbours' silence as death.
 pub const DEAF_WINDOWS: Time = 10;
@@ -328,14 +332,14 @@ impl<'g> Peer<'g> {
         self.send_acks(now, out);
         // Behind another robot it stays whatever else it hears: it need
         // not listen on (a slow robot would pay another reaction for it).
-        if self.phase == Phase::Exchange && (now >= self.exchange_end() || self.behind()) {
+        if self.phase == Phase::Exchange && (now >= self.exchange_end(now) || self.behind()) {
             self.end_exchange(now, out);
         }
         if self.phase == Phase::Choosing {
             self.progress(now, out);
         }
         let alarm = match self.phase {
-            Phase::Exchange => Some(self.exchange_end()),
+            Phase::Exchange => Some(self.exchange_end(now)),
             Phase::Choosing if self.has_chosen() => match self.listen_until() {
                 Some(l) if l > now => Some(self.ack_deadline.min(l)),
                 _ => Some(self.ack_deadline),
@@ -352,9 +356,10 @@ impl<'g> Peer<'g> {
     }
 
     /// When its exchange ends: its window's end, or, in a fresh slot with
-    /// no map heard yet, the widest window's.
-    fn exchange_end(&self) -> Time {
-        if self.heard.iter().any(|h| h.map) {
+    /// no map heard by then, the widest window's. (Maps wait for it while it
+    /// exchanges: it learns whether any came only at its window's end.)
+    fn exchange_end(&self, now: Time) -> Time {
+        if now < self.window_end || self.heard.iter().any(|h| h.map) {
             self.window_end
         } else {
             self.fresh_end
@@ -688,10 +693,10 @@ impl<'g> Peer<'g> {
             self.late = true;
             out.notes.push(Note::Unsure);
         }
-        // The radio was slower than the widest window this slot or the last:
-        // it may not have heard who is near, and it stays (degrading to
-        // stays, not to collisions).
-        if self.too_slow.is_some_and(|r| r + 1 >= round) && self.cfg.robot.policy.collision_free() {
+        // The radio was slower than the widest window in one of the last
+        // `TOO_SLOW_SLOTS` slots: it may not have heard who is near, and it
+        // stays (degrading to stays, not to collisions).
+        if self.too_slow.is_some_and(|r| r + TOO_SLOW_SLOTS > round) && self.cfg.robot.policy.collision_free() {
             self.late = true;
             out.notes.push(Note::Unsure);
         }
