@@ -68,6 +68,8 @@ enum Command {
         max_rounds: Option<u32>,
         #[command(flatten)]
         faults: FaultFlags,
+        #[command(flatten)]
+        view: gridswarm_orchestrator::cli::view::ViewFlags,
     },
     /// The Monte Carlo sweep of Fig. 7 and its claims; with --grids, the
     /// lattice comparison of Sec. 3 instead; `readings` for the claims over
@@ -153,6 +155,8 @@ enum Command {
         agent_bin: Option<PathBuf>,
         #[command(flatten)]
         net: gridswarm_orchestrator::cli::transport::TransportFlags,
+        #[command(flatten)]
+        view: gridswarm_orchestrator::cli::view::ViewFlags,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     ///
@@ -468,6 +472,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             json,
             max_rounds,
             faults,
+            view,
         } => {
             let opts = SimulateOptions {
                 scenario,
@@ -479,6 +484,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 json,
                 max_rounds,
                 faults: faults.plan(),
+                view,
             };
             let (text, complete) = simulate::simulate(&opts)?;
             emit(&text);
@@ -534,6 +540,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             faults,
             agent_bin: _,
             net,
+            view,
         } => {
             let base = RunBase {
                 scenario,
@@ -547,7 +554,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             };
             let plan = faults.plan();
             plan.check_scenario(&base)?;
-            let opts = gridswarm_orchestrator::run::RunOptions { net: net.options(), ..plan.run_options(base) };
+            let opts = gridswarm_orchestrator::run::RunOptions { net: net.options(), view, ..plan.run_options(base) };
             let (text, complete) = gridswarm_orchestrator::run::run(&opts)?;
             emit(&text);
             return Ok(finished(complete));

@@ -192,6 +192,7 @@ impl FaultPlan {
             out: base.out,
             json: base.json,
             net: Default::default(),
+            view: Default::default(),
         }
     }
 }
