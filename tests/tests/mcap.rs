@@ -2,21 +2,13 @@
 //! tape, followed by the orchestrator, gives the very messages the
 //! in-process world gives, channel by channel, with a fault and loss.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use gridswarm_e2e::{finished, gridswarm, serial};
-
-type Topics = BTreeMap<String, Vec<(u64, Vec<u8>)>>;
+use gridswarm_orchestrator::mcap::{topics, Topics};
 
 fn read(path: &Path) -> Topics {
-    let bytes = std::fs::read(path).unwrap();
-    let mut by_topic = Topics::new();
-    for m in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
-        let m = m.expect("a whole message");
-        by_topic.entry(m.channel.topic.clone()).or_default().push((m.log_time, m.data.into_owned()));
-    }
-    by_topic
+    topics(&std::fs::read(path).unwrap()).expect("an MCAP file")
 }
 
 #[test]

@@ -78,14 +78,6 @@ impl ViewFlags {
             None => None,
         };
         let live = self.live.map(|addr| Live::start(&ctx, addr)).transpose()?;
-        if let Some(l) = &live {
-            eprintln!(
-                "live view at ws://{}: in Foxglove, Open connection > Foxglove WebSocket; \
-                 the run starts when a panel subscribes to a channel",
-                l.addr
-            );
-            l.wait_for_viewer();
-        }
         Ok(Sinks { ctx, mcap, live, speed: self.speed.unwrap_or_default() })
     }
 
@@ -128,9 +120,19 @@ impl ViewFlags {
 }
 
 impl Sinks {
+    /// The recorder's channels made, a live viewer waited for, the state at time 0 logged.
     fn recorder<'w>(&self, world: &'w World, starts: &[VertexId]) -> Result<Recorder<'w>> {
-        let pace = self.live.as_ref().map(|_| Pace::new(self.speed));
-        Recorder::new(&self.ctx, world, starts, pace)
+        let mut recorder = Recorder::new(&self.ctx, world, starts.len())?;
+        if let Some(l) = &self.live {
+            eprintln!(
+                "live view at ws://{}: in Foxglove, Open connection > Foxglove WebSocket; \
+                 the run starts when a panel subscribes to a channel",
+                l.addr
+            );
+            l.wait_for_viewer();
+        }
+        recorder.begin(starts, self.live.as_ref().map(|_| Pace::new(self.speed)));
+        Ok(recorder)
     }
 
     /// The live server stopped once its messages are out, the file closed.

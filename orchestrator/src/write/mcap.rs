@@ -3,7 +3,8 @@
 //! into messages on a fixed set of channels of one Foxglove [`Context`].
 //! Which sinks listen (an MCAP file, the live server, both) is the
 //! caller's choice; this module only converts, stamps every message with
-//! the simulated time, and never decides anything for the run.
+//! the simulated time, and never decides anything for the run ([`topics`]
+//! reads a file back, for checks).
 //!
 //! Channels: [`ROBOTS`] (PosesInFrame, every robot each slot), one Grid a
 //! robot under [`MAPS`] (its explored map from each map frame it sends,
@@ -109,16 +110,6 @@ fn pose(x: f64, y: f64) -> Pose {
     Pose { position: vec3(x, y, 0.0), orientation: Some(Quaternion { x: 0.0, y: 0.0, z: 0.0, w: 1.0 }) }
 }
 
-pub fn kind_name(f: &Frame) -> &'static str {
-    match f {
-        Frame::Map { .. } => "map",
-        Frame::Choice { .. } => "choice",
-        Frame::Ack { .. } => "ack",
-        Frame::Commit { .. } => "commit",
-        Frame::Flood { .. } => "flood",
-    }
-}
-
 /// Turns one run's observations into messages.
 pub struct Recorder<'w> {
     world: &'w World,
@@ -132,23 +123,28 @@ pub struct Recorder<'w> {
 }
 
 impl<'w> Recorder<'w> {
-    /// Channels on `ctx` for a run of robots starting at `starts`, and
-    /// the state at time 0 (poses, every target unfound). `pace`: keep
-    /// simulated time to a speed of wall time (the live view).
-    pub fn new(ctx: &Arc<Context>, world: &'w World, starts: &[VertexId], pace: Option<Pace>) -> Result<Self> {
-        let ch = Channels::new(ctx, starts.len())?;
-        let r = Recorder {
+    /// Channels on `ctx` for a run of `robots` robots, advertised at once
+    /// (a live viewer subscribes to them before [`Recorder::begin`]).
+    pub fn new(ctx: &Arc<Context>, world: &'w World, robots: usize) -> Result<Self> {
+        let ch = Channels::new(ctx, robots)?;
+        Ok(Recorder {
             world,
             ch,
             raster: Raster::new(world),
             found: vec![None; world.targets.len()],
-            shown: vec![Bytes::new(); starts.len()],
-            pace,
-        };
-        r.poses(0, starts);
-        let all: Vec<usize> = (0..world.targets.len()).collect();
-        r.targets(0, &all);
-        Ok(r)
+            shown: vec![Bytes::new(); robots],
+            pace: None,
+        })
+    }
+
+    /// The state at time 0 (poses at `starts`, every target unfound).
+    /// `pace`: keep simulated time to a speed of wall time from now on
+    /// (the live view).
+    pub fn begin(&mut self, starts: &[VertexId], pace: Option<Pace>) {
+        self.pace = pace;
+        self.poses(0, starts);
+        let all: Vec<usize> = (0..self.world.targets.len()).collect();
+        self.targets(0, &all);
     }
 
     fn poses(&self, t: Time, at: &[VertexId]) {
@@ -224,7 +220,7 @@ impl Watch<Rc<Frame>> for Recorder<'_> {
     fn sent(&mut self, s: Sent<'_, Rc<Frame>>) {
         let f: &Frame = s.payload;
         let v = json!({
-            "kind": kind_name(f),
+            "kind": f.kind(),
             "round": f.round(),
             "sender": s.from,
             "sent_s": seconds(s.at),
@@ -329,6 +325,20 @@ impl Raster {
         }
     }
 }
+
+/// Every message of an MCAP file's bytes by topic, in the file's order:
+/// its log time and data. For tests and tools that check a file.
+pub fn topics(bytes: &[u8]) -> std::result::Result<Topics, String> {
+    let mut by_topic = Topics::new();
+    for m in ::mcap::MessageStream::new(bytes).map_err(|e| e.to_string())? {
+        let m = m.map_err(|e| e.to_string())?;
+        by_topic.entry(m.channel.topic.clone()).or_default().push((m.log_time, m.data.into_owned()));
+    }
+    Ok(by_topic)
+}
+
+/// Messages by topic: log time (ns) and data.
+pub type Topics = std::collections::BTreeMap<String, Vec<(u64, Vec<u8>)>>;
 
 impl Recorder<'_> {
     /// One event of a world-server's tape ([`gridswarm::sim::watch::Tape`]),
