@@ -45,6 +45,16 @@ pub fn check_assumptions(scenario: &Scenario, world: &World, starts: &[VertexId]
     gridswarm::assumptions::check(scenario, world, starts)
 }
 
+/// One search of a grid policy shown to `watch` as it goes (`--mcap`, `--live`).
+pub fn run_grid_watched(
+    world: &World,
+    starts: &[VertexId],
+    cfg: &RunConfig,
+    watch: &mut dyn gridswarm::sim::watch::Watch<std::rc::Rc<gridswarm::protocol::Frame>>,
+) -> RunResult {
+    gridswarm::engine::run_grid_watched(world, starts, cfg, watch)
+}
+
 /// Runs searches on one world, reusing whatever the engine can precompute
 /// for it (the sweep runs thousands of searches on the same world).
 pub struct Runner<'w> {

@@ -28,4 +28,4 @@ pub use experiments::{
     claims, experiment, failures, grids, layouts, maps, radio, readings, scale, seeds, sensitivity, stats, sweep, tally,
 };
 pub use supervise::{launch, run};
-pub use write::{figures, heatmap, output, panels, plot, replay, report, routes, rundir, spread, staging};
+pub use write::{figures, heatmap, live, mcap, output, panels, plot, replay, report, routes, rundir, spread, staging};

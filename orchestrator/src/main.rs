@@ -69,6 +69,8 @@ enum Command {
         max_rounds: Option<u32>,
         #[command(flatten)]
         faults: FaultFlags,
+        #[command(flatten)]
+        view: gridswarm_orchestrator::cli::view::ViewFlags,
     },
     /// The Monte Carlo sweep of Fig. 7 and its claims; with --grids, the
     /// lattice comparison of Sec. 3 instead; `readings` for the claims over
@@ -169,6 +171,8 @@ enum Command {
         agent_bin: Option<PathBuf>,
         #[command(flatten)]
         net: gridswarm_orchestrator::cli::transport::TransportFlags,
+        #[command(flatten)]
+        view: gridswarm_orchestrator::cli::view::ViewFlags,
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     ///
@@ -489,6 +493,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             json,
             max_rounds,
             faults,
+            view,
         } => {
             let opts = SimulateOptions {
                 scenario,
@@ -500,6 +505,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 json,
                 max_rounds,
                 faults: faults.plan(),
+                view,
             };
             let (text, complete) = simulate::simulate(&opts)?;
             emit(&text);
@@ -576,6 +582,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             faults,
             agent_bin: _,
             net,
+            view,
         } => {
             let base = RunBase {
                 scenario,
@@ -589,7 +596,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             };
             let plan = faults.plan();
             plan.check_scenario(&base)?;
-            let opts = gridswarm_orchestrator::run::RunOptions { net: net.options(), ..plan.run_options(base) };
+            let opts = gridswarm_orchestrator::run::RunOptions { net: net.options(), view, ..plan.run_options(base) };
             let (text, complete) = gridswarm_orchestrator::run::run(&opts)?;
             emit(&text);
             return Ok(finished(complete));

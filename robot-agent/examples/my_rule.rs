@@ -51,6 +51,7 @@ fn simulate_here(args: &[String]) -> Result<String, String> {
         json: true,
         max_rounds: None,
         faults: FaultPlan::default(),
+        view: Default::default(),
     };
     let mut it = args.iter();
     while let Some(flag) = it.next() {

@@ -15,6 +15,7 @@ use crate::peer::Peer;
 use crate::policy::Policy;
 use crate::protocol::Frame;
 use crate::setup::RobotSetup;
+use crate::sim::watch::Watch;
 use crate::sim::{Delivery, Kernel, Output, Robots, Transmit, WakeCall};
 use crate::world::World;
 
@@ -68,12 +69,20 @@ impl<'w> Prepared<'w> {
 }
 
 fn run_grid(world: &World, starts: &[VertexId], cfg: &RunConfig) -> RunResult {
-    // Every robot's map reads its edge masks from one table: they are physics.
     let _masks = SharedMasks::new(world.grid.len());
-    let peers =
-        (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
-    let mut local = Local { peers, out: Output::default(), frames: Vec::new() };
-    Kernel::new(world, starts, cfg).run(&mut local)
+    Kernel::new(world, starts, cfg).run(&mut Local::new(world, starts, cfg))
+}
+
+/// One search of a grid policy shown to `watch` as it goes ([`crate::sim::watch`]):
+/// the same search as [`run`]'s.
+pub fn run_grid_watched(
+    world: &World,
+    starts: &[VertexId],
+    cfg: &RunConfig,
+    watch: &mut dyn Watch<Rc<Frame>>,
+) -> RunResult {
+    let _masks = SharedMasks::new(world.grid.len());
+    Kernel::new(world, starts, cfg).watched(watch).run(&mut Local::new(world, starts, cfg))
 }
 
 /// Robots as function calls.
@@ -83,6 +92,16 @@ struct Local<'g> {
     /// Frames every receiver has read, their allocations reused for the
     /// next frames sent (about three a robot a slot).
     frames: Vec<Rc<Frame>>,
+}
+
+impl<'g> Local<'g> {
+    /// Every robot's map reads its edge masks from one table, made by the
+    /// caller ([`SharedMasks`]): they are physics.
+    fn new(world: &'g World, starts: &[VertexId], cfg: &RunConfig) -> Self {
+        let peers =
+            (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
+        Local { peers, out: Output::default(), frames: Vec::new() }
+    }
 }
 
 impl Robots for Local<'_> {

@@ -36,6 +36,7 @@ use gridswarm::ipc::{self, RunFile, RunReport};
 use gridswarm::net::{NetConfig, Security, ZenohWorld};
 use gridswarm::outcome::RunResult;
 use gridswarm::scenario::Scenario;
+use gridswarm::sim::watch::Tape;
 use gridswarm::sim::Kernel;
 use gridswarm::transport::{Transport, WorldTransport};
 use gridswarm::wire::WireLimits;
@@ -99,6 +100,10 @@ struct Args {
     /// so their memory and CPU are not measured.
     #[arg(long)]
     remote_agents: bool,
+    /// Record what the world sees (frames, faults, slots, sensor readings)
+    /// on a tape here as it happens (`gridswarm run --mcap`, `--live`).
+    #[arg(long, value_name = "FILE")]
+    watch: Option<PathBuf>,
 }
 
 /// What the world serves: the run file, its world, start vertices and
@@ -196,7 +201,16 @@ fn serve(args: &Args, link: &dyn WorldTransport, (run, world, starts, id): Loade
     let cpu0 = ipc::cpu_ms_of(std::process::id());
     let mut cfg = run.config.clone();
     cfg.record_trajectories = true;
-    let result = Kernel::new(&world, &starts, &cfg).run(&mut remote);
+    let result = match &args.watch {
+        Some(path) => {
+            let file = std::fs::File::create(path).map_err(|e| format!("cannot write `{}`: {e}", path.display()))?;
+            let mut tape = Tape::new(std::io::BufWriter::new(file));
+            let result = Kernel::<std::rc::Rc<[u8]>>::new(&world, &starts, &cfg).watched(&mut tape).run(&mut remote);
+            tape.finish().map_err(|e| format!("cannot write `{}`: {e}", path.display()))?;
+            result
+        }
+        None => Kernel::new(&world, &starts, &cfg).run(&mut remote),
+    };
     remote.finish_rounds();
     if let Some(e) = remote.failed.take() {
         remote.end();

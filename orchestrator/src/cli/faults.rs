@@ -203,6 +203,7 @@ impl FaultPlan {
             json: base.json,
             starts: self.starts,
             net: Default::default(),
+            view: Default::default(),
         }
     }
 }

@@ -11,3 +11,4 @@ pub mod faults;
 pub mod robots;
 pub mod simulate;
 pub mod transport;
+pub mod view;

@@ -13,6 +13,7 @@ use gridswarm::scenario::limits;
 use gridswarm::world::World;
 use serde_json::json;
 
+use crate::cli::view::ViewFlags;
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
 use crate::faults::FaultPlan;
@@ -36,6 +37,8 @@ pub struct SimulateOptions {
     pub max_rounds: Option<u32>,
     /// Faults and radio impairments (grid policies only).
     pub faults: FaultPlan,
+    /// `--mcap`, `--live`.
+    pub view: ViewFlags,
 }
 
 /// Runs once; returns the text for stdout (warnings go to stderr directly)
@@ -54,6 +57,7 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
         // A name only an --agent-bin program can run.
         gridswarm::choice::registry::runnable(opts.algorithm).map_err(Error::Usage)?;
     }
+    opts.view.check(opts.algorithm)?;
     let mut cfg = RunConfig::new(opts.algorithm, opts.seed, scenario.situation);
     // Usage errors before anything is created.
     opts.faults.configure(&mut cfg, robots)?;
@@ -73,7 +77,10 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     cfg.max_rounds = max_rounds;
     cfg.record_trajectories = opts.out.is_some();
     cfg.measure_coverage = true;
-    let result = Runner::new(&world, lfp).run(&starts, &cfg);
+    let (result, viewed) = match opts.view.any() {
+        true => opts.view.run(&world, &starts, &cfg)?,
+        false => (Runner::new(&world, lfp).run(&starts, &cfg), Vec::new()),
+    };
     // What a distributed run's processes would have agreed on; no key.
     let mut agreement = json!(Agreement::new("", scenario_id, cfg.seed, cfg.policy, cfg.situation, world.params));
     agreement["key"] = serde_json::Value::Null;
@@ -104,10 +111,11 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     });
     let record = RunRecord { scenario: &scenario, world: &world, starts: &starts, lfp: &lfp, result: &result, extra };
     let summary = record.summary();
-    let written = match stage {
+    let mut written = match stage {
         Some(stage) => rundir::write_staged(stage, &record)?,
         None => Vec::new(),
     };
+    written.extend(viewed);
 
     // Said even with --json (on stderr there), so a cut run is never a
     // silent mystery.

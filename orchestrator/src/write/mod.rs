@@ -4,6 +4,8 @@
 
 pub mod figures;
 pub mod heatmap;
+pub mod live;
+pub mod mcap;
 pub mod output;
 pub mod palette;
 pub mod panels;

@@ -34,6 +34,7 @@ pub mod medium;
 mod same_search_tests;
 pub mod schedule;
 pub mod stats;
+pub mod watch;
 
 use serde::{Deserialize, Serialize};
 

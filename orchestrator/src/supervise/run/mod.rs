@@ -42,6 +42,7 @@ use gridswarm::world::World;
 use serde_json::{json, Value};
 
 use crate::check;
+use crate::cli::view::ViewFlags;
 use crate::contract;
 use crate::error::{Error, Result};
 use crate::launch::{self, Event};
@@ -87,6 +88,8 @@ pub struct RunOptions {
     pub net: NetOptions,
     /// Where the robots start (the world-server places them by the same rule).
     pub starts: StartRule,
+    /// `--mcap`, `--live`: followed from the world-server's tape.
+    pub view: ViewFlags,
 }
 
 impl RunOptions {
@@ -117,6 +120,7 @@ impl RunOptions {
             json: true,
             net: NetOptions::default(),
             starts: StartRule::Fixed,
+            view: ViewFlags::default(),
         }
     }
 }
@@ -287,7 +291,11 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let (tx, rx) = mpsc::channel();
     launch::forward_signals(tx.clone()).map_err(Error::Run)?;
     let mut procs = Processes::new(&prefix);
-    let launch = opts.net.args(&prefix, &files.dir)?;
+    let mut launch = opts.net.args(&prefix, &files.dir)?;
+    let tape = files.dir.join("world.tape");
+    if opts.view.any() {
+        launch.world.extend(["--watch".to_string(), tape.display().to_string()]);
+    }
     if let Some(hosts) = &launch.own_credentials {
         // Valid for the day: the folder goes with the run.
         credentials::write(&files.dir, &credentials::Order { robots: plan.robots, hosts, days: 1 })?;
@@ -295,7 +303,13 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     if let Some(key) = &opts.net.remote_agents {
         eprintln!("{}", net::hand_hint(key, opts, &plan));
     }
-    let followed = follow(&mut procs, &files, &plan, (&world_bin, &agent_bin), &launch, tx, &rx)?;
+    let bins = (world_bin.as_path(), agent_bin.as_path());
+    let (followed, viewed) = match opts.view.any() {
+        true => opts
+            .view
+            .watching(&plan.world, &plan.starts, &tape, || follow(&mut procs, &files, &plan, bins, &launch, tx, &rx))?,
+        false => (follow(&mut procs, &files, &plan, bins, &launch, tx, &rx)?, Vec::new()),
+    };
     let report = read_report(&files)?;
     // A robot still frozen cannot read `End`.
     for r in inject::still_frozen(&plan.cfg.faults, &followed.applied) {
@@ -354,10 +368,11 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         extra,
     };
     let summary = record.summary();
-    let written = match stage {
+    let mut written = match stage {
         Some(stage) => rundir::write_staged(stage, &record)?,
         None => Vec::new(),
     };
+    written.extend(viewed);
     Ok(Done { plan, result, report, summary, written, warnings })
 }
 

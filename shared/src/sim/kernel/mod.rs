@@ -6,6 +6,7 @@ use std::rc::Rc;
 
 use super::medium::Medium;
 use super::stats::ProtocolStats;
+use super::watch::{Sent, Watch};
 use super::{micros, seconds, Delivery, Framed, Listen, Motor, Output, Robots, Tick, Time, WakeCall};
 use crate::geometry::Point;
 use crate::grid::VertexId;
@@ -137,6 +138,9 @@ pub struct Kernel<'w, P> {
     /// Buffers of every slot's start and close, kept so that a slot does not allocate them.
     points: Vec<Point>,
     before_next: (Vec<VertexId>, Vec<VertexId>),
+    /// An observer of the run ([`Kernel::watched`]), and the receivers of a frame for it.
+    watch: Option<&'w mut dyn Watch<P>>,
+    fates: (Vec<u32>, Vec<u32>),
 }
 
 impl<'w, P: Clone + Framed> Kernel<'w, P> {
@@ -207,10 +211,18 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             trace: std::env::var_os("GRIDSWARM_TRACE").is_some(),
             points: Vec::with_capacity(n),
             before_next: (Vec::with_capacity(n), Vec::with_capacity(n)),
+            watch: None,
+            fates: (Vec::new(), Vec::new()),
         };
         k.record_poses();
         k.push(0, Ev::SlotStart);
         k
+    }
+
+    /// The run shown to `watch` as it goes; the same run.
+    pub fn watched(mut self, watch: &'w mut dyn Watch<P>) -> Self {
+        self.watch = Some(watch);
+        self
     }
 
     fn push(&mut self, time: Time, ev: Ev<P>) {
@@ -294,6 +306,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             }
             Ev::Fault(i) => {
                 let f = self.cfg.faults[i];
+                if let Some(w) = self.watch.as_deref_mut() {
+                    w.fault(self.now, &f);
+                }
                 robots.inject(&f, self.now);
                 self.apply_fault(&f);
             }
@@ -383,7 +398,12 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
     fn tick(&mut self, r: usize) -> Tick {
         let (open, occupied) = self.referee.sonar(r);
         let targets = self.referee.laser(r).to_vec();
-        Tick { round: self.round, start: self.slot_start, at: self.referee.position(r), open, occupied, targets }
+        let tick =
+            Tick { round: self.round, start: self.slot_start, at: self.referee.position(r), open, occupied, targets };
+        if let Some(w) = self.watch.as_deref_mut() {
+            w.ticked(r, &tick);
+        }
+        tick
     }
 
     /// The wake-ups due now, robot by robot in ascending order.
@@ -524,6 +544,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             let medium = &self.medium;
             let to = self.links[r].get_or_insert_with(|| Rc::from(medium.links(r))).clone();
             let at = ready + self.hop;
+            if let Some(w) = self.watch.as_deref_mut() {
+                w.sent(Sent { at: ready, from: r, payload: &payload, heard: &to, lost: &[] });
+            }
             let d = Delivery { from, at, payload };
             if to.is_empty() {
                 // A lone robot's map every slot: its buffers go back too.
@@ -534,9 +557,15 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             }
             return;
         }
+        self.fates.0.clear();
+        self.fates.1.clear();
         for k in 0..self.medium.links(r).len() {
             let to = self.medium.links(r)[k];
             let fate = self.medium.fate(r, seq, to as usize, ready, copies);
+            if self.watch.is_some() {
+                let fates = if fate.arrival.is_some() { &mut self.fates.0 } else { &mut self.fates.1 };
+                fates.push(to);
+            }
             self.stats.lost += fate.lost as u64;
             if let Some(at) = fate.arrival {
                 self.stats.deliveries += 1;
@@ -546,6 +575,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 self.stats.duplicated += 1;
                 self.push(at, Ev::Deliver { to, d: Delivery { from, at, payload: payload.clone() } });
             }
+        }
+        if let Some(w) = self.watch.as_deref_mut() {
+            w.sent(Sent { at: ready, from: r, payload: &payload, heard: &self.fates.0, lost: &self.fates.1 });
         }
     }
 
@@ -651,6 +683,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         }
         self.before_next = (before, next);
         self.round_end_times.push(seconds(end));
+        if let Some(w) = self.watch.as_deref_mut() {
+            w.closed(self.round, end, self.referee.positions(), report.collisions);
+        }
         self.round_collisions.push(report.collisions);
         let mut searching = 0;
         let round = self.round;
