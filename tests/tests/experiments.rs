@@ -135,7 +135,7 @@ fn a_small_scale_experiment() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert_eq!(text(&o.stderr), "", "quiet in a pipe");
     // It names the folder asked for, not the staging folder it wrote first.
-    assert!(text(&o.stdout).contains(&format!("report.html in {}\n", out.display())), "{}", text(&o.stdout));
+    assert!(text(&o.stdout).contains(&format!("provenance.json in {}\n", out.display())), "{}", text(&o.stdout));
     let (h, rows) = csv_rows(&out.join("scale.csv"));
     assert_eq!(rows.len(), 2);
     for (r, n) in rows.iter().zip([3.0, 6.0]) {
