@@ -113,8 +113,14 @@ impl Timing {
         Some((k.min(u32::MAX as Time) as u32, k * period))
     }
 
+    /// The widest exchange window a robot may choose (its own, widened by
+    /// [`MAX_WIDEN`] windows).
+    pub fn widest(&self) -> Time {
+        self.exchange * (1 + MAX_WIDEN)
+    }
+
     pub fn decision_time(&self) -> Time {
-        self.exchange * (1 + MAX_WIDEN) + 2 * self.wait + self.choice + (self.copies as Time + 1) * self.hop
+        self.widest() + 2 * self.wait + self.choice + (self.copies as Time + 1) * self.hop
     }
 }
 
@@ -460,7 +466,7 @@ impl<'g> Peer<'g> {
             // tell an empty neighbourhood from a radio slower than its
             // window (it has measured none yet): it listens on to the
             // widest window before it decides alone.
-            let widest = self.cfg.timing.exchange * (1 + MAX_WIDEN);
+            let widest = self.cfg.timing.widest();
             let listen_from = if self.sensed_late { now } else { start };
             let avoids = self.cfg.robot.policy.collision_free();
             self.fresh_end = if self.fresh && avoids { window_end.max(listen_from + widest) } else { window_end };
@@ -687,7 +693,7 @@ impl<'g> Peer<'g> {
         // Robots next to it, and not one map heard since it started: the
         // radio is slower than any window (or they all died at once). It
         // stays, until that silence has lasted `DEAF_WINDOWS` widest windows.
-        let widest = self.cfg.timing.exchange * (1 + MAX_WIDEN);
+        let widest = self.cfg.timing.widest();
         let deaf = !self.heard_any && !self.silent.is_empty() && now < self.first_sensed + DEAF_WINDOWS * widest;
         if deaf && self.cfg.robot.policy.collision_free() {
             self.late = true;
