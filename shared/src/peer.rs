@@ -20,9 +20,11 @@
 //!    stops on its own only, and searches again once one of them is heard.
 //!    A robot that hears a stop stops and relays it.
 //! 4. **Choice.** It waits for the choices of its higher-priority
-//!    neighbours (step 4) until `t_wait` after the exchange; those still
-//!    missing are suspected for the slot and treated as standing still.
-//!    Then it chooses (step 5) and broadcasts the choice.
+//!    neighbours (step 4) until `t_wait` after the exchange, and on for
+//!    those that say they still wait themselves (`Frame::Wait`, sent every
+//!    half `t_wait` while a robot waits: long chains in dense teams); those
+//!    still missing are suspected for the slot and treated as standing
+//!    still. Then it chooses (step 5) and broadcasts the choice.
 //! 5. **Acknowledgement.** A robot that receives a choice acknowledges it
 //!    if it has not committed to a conflicting move (it will avoid it), and
 //!    refuses it otherwise.
