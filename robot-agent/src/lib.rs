@@ -52,7 +52,7 @@ use gridswarm::grid::Grid;
 use gridswarm::ipc::{self, names};
 use gridswarm::net::{NetConfig, Security, ZenohAgent};
 use gridswarm::outcome::RunConfig;
-use gridswarm::params::{Situation, SlotRule};
+use gridswarm::params::{Order, Situation, SlotRule};
 use gridswarm::peer::Peer;
 use gridswarm::policy::Policy;
 use gridswarm::protocol::{self, Frame, Limits};
@@ -128,6 +128,9 @@ struct Args {
     /// Without --setup: overrides the scenario's slot rule (adaptive or fixed).
     #[arg(long)]
     slot: Option<SlotRule>,
+    /// Without --setup: overrides the scenario's choice order (paper or local).
+    #[arg(long)]
+    order: Option<Order>,
     /// Quiet time after which the world's liveness is checked, ms.
     #[arg(long, default_value_t = 500)]
     world_timeout_ms: u64,
@@ -458,11 +461,13 @@ impl AgentTransport for Iceoryx2 {
     }
 }
 
-/// The run's overrides of the scenario's parameters (`--retries`, `--slot`).
+/// The run's overrides of the scenario's parameters (`--retries`,
+/// `--slot`, `--order`).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Overrides {
     pub retries: Option<u32>,
     pub slot: Option<SlotRule>,
+    pub order: Option<Order>,
 }
 
 /// The setup the orchestrator writes for robot `robot` of a run of
@@ -508,6 +513,9 @@ pub fn derived(
     if let Some(s) = overrides.slot {
         sc.params.slot = s;
     }
+    if let Some(o) = overrides.order {
+        sc.params.order = o;
+    }
     let world = sc.world();
     let agreement = Agreement::new(key, id, seed, policy, sc.situation, world.params);
     Ok((RobotSetup::new(&world, &RunConfig::new(policy, seed, sc.situation), robot), agreement))
@@ -519,7 +527,7 @@ fn setup_of(args: &Args) -> Result<(RobotSetup, Agreement), String> {
         (Some(path), _, _, _) => read_setup(path),
         (None, Some(sc), Some(robot), Some(seed)) => {
             let key = args.prefix.as_deref().unwrap_or_default();
-            let overrides = Overrides { retries: args.retries, slot: args.slot };
+            let overrides = Overrides { retries: args.retries, slot: args.slot, order: args.order };
             derived(key, sc, robot, seed, &args.algorithm, args.situation, overrides)
         }
         _ => Err("--setup, or --scenario with --robot and --seed, is needed".into()),

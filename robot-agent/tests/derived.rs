@@ -5,7 +5,7 @@
 
 use std::process::Command;
 
-use gridswarm::params::{Situation, SlotRule};
+use gridswarm::params::{Order, Situation, SlotRule};
 use gridswarm::policy::Policy;
 use gridswarm::setup::RobotSetup;
 use gridswarm_orchestrator::run::{self, RunOptions};
@@ -18,15 +18,16 @@ fn agent() -> Command {
 #[test]
 fn a_derived_setup_is_the_one_the_orchestrator_writes() {
     let cases = [
-        ("paper", Policy::Repulsive, Situation::Two, None, None, 7),
-        ("paper", Policy::Sequential, Situation::One, Some(2), None, 12),
-        ("random:3", Policy::Escape, Situation::One, None, Some(SlotRule::Fixed), 0),
+        ("paper", Policy::Repulsive, Situation::Two, None, None, None, 7),
+        ("paper", Policy::Sequential, Situation::One, Some(2), None, Some(Order::Local), 12),
+        ("random:3", Policy::Escape, Situation::One, None, Some(SlotRule::Fixed), None, 0),
     ];
-    for (scenario, policy, situation, retries, slot, robot) in cases {
+    for (scenario, policy, situation, retries, slot, order, robot) in cases {
         let mut o = RunOptions::for_experiment(scenario.into(), policy, 13, 41, situation, 0, 100);
         o.retries = retries;
         o.slot = slot;
-        let retries = Overrides { retries, slot };
+        o.order = order;
+        let retries = Overrides { retries, slot, order };
         let plan = run::plan(&o).unwrap();
         let written = RobotSetup::new(&plan.world, &plan.cfg, robot);
         let sit = if situation == Situation::One { 1 } else { 2 };

@@ -88,6 +88,11 @@ impl Grid {
         self.keys[v as usize]
     }
 
+    /// `v`'s class in the colouring of [`Lattice::class`].
+    pub fn class(&self, v: VertexId) -> u8 {
+        self.lattice.class(self.coords[v as usize])
+    }
+
     /// Neighbour slots of `v`; only the first [`Grid::degree`] can be set.
     pub fn neighbors(&self, v: VertexId) -> &[VertexId; MAX_DEGREE] {
         &self.adj[v as usize]

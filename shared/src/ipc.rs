@@ -407,6 +407,9 @@ pub struct RunFile {
     /// Overrides the scenario's `params.slot`.
     #[serde(default)]
     pub slot: Option<crate::params::SlotRule>,
+    /// Overrides the scenario's `params.order`.
+    #[serde(default)]
+    pub order: Option<crate::params::Order>,
     /// How the world places the robots (drawn from `config.seed` when random).
     #[serde(default)]
     pub starts: crate::scenario::StartRule,

@@ -116,6 +116,28 @@ impl Lattice {
         }
     }
 
+    /// The vertex's class in a colouring where any two vertices at most
+    /// `2a` apart differ ([`Lattice::classes`] classes): two robots that
+    /// can collide in a slot start at most `2a` apart (ARCHITECTURE.md,
+    /// "Safety", S0), so robots of one class never can. The classes are
+    /// the cosets of a sublattice whose shortest vector is longer than
+    /// `2a`: `(2, 1)`, `sqrt(7) a` long, on the triangular lattice (and on
+    /// the honeycomb, its subset); `(2, 1)`, `sqrt(5) a`, on the square one.
+    pub fn class(&self, c: Coord) -> u8 {
+        match self.kind {
+            LatticeKind::Triangular | LatticeKind::Hexagonal => (c.i + 3 * c.j).rem_euclid(7) as u8,
+            LatticeKind::Square => (c.i + 2 * c.j).rem_euclid(5) as u8,
+        }
+    }
+
+    /// How many classes [`Lattice::class`] has.
+    pub fn classes(&self) -> u8 {
+        match self.kind {
+            LatticeKind::Triangular | LatticeKind::Hexagonal => 7,
+            LatticeKind::Square => 5,
+        }
+    }
+
     /// The neighbour offsets of the vertex `c` (for the honeycomb they depend
     /// on which of its two sublattices `c` is on).
     pub fn offsets(&self, c: Coord) -> &'static [(i32, i32)] {
@@ -207,6 +229,25 @@ mod tests {
                     assert!(l.offsets(n).contains(&(-di, -dj)));
                 }
             }
+        }
+    }
+
+    #[test]
+    fn vertices_within_2a_differ_in_class() {
+        for kind in LatticeKind::ALL {
+            let l = Lattice::new(kind, 1.3);
+            let cs = l.coords_in_box(Point::new(-6.0, -6.0), Point::new(6.0, 6.0));
+            let mut seen = vec![false; l.classes() as usize];
+            for &p in &cs {
+                seen[l.class(p) as usize] = true;
+                for &q in &cs {
+                    let d = (l.position(p) - l.position(q)).norm();
+                    if p != q && d <= 2.0 * 1.3 + 1e-9 {
+                        assert_ne!(l.class(p), l.class(q), "{kind:?} {p:?} {q:?} at {d}");
+                    }
+                }
+            }
+            assert!(seen.iter().all(|&s| s), "{kind:?}: every class is used");
         }
     }
 

@@ -59,6 +59,55 @@ pub struct Params {
     /// What ends a slot: see [`SlotRule`].
     #[serde(default)]
     pub slot: SlotRule,
+    /// Step 4's order, who waits for whose choice: see [`Order`].
+    #[serde(default)]
+    pub order: Order,
+}
+
+/// Who waits for whose choice in step 4 (issue 21, point 5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Order {
+    /// The paper's: a robot waits for every neighbour further east (then
+    /// north). Chains of waits run across the team, so a slot's choices
+    /// take longer the denser the team (docs/paper.md, "Choice order").
+    #[default]
+    Paper,
+    /// A local order of bounded depth, not the paper's: vertices are
+    /// coloured so that any two within `2a` differ
+    /// ([`crate::lattice::Lattice::class`], 7 classes on the triangular
+    /// lattice), and a robot waits only for neighbours of an earlier
+    /// class. Robots of one class never conflict and choose at once, so
+    /// a chain has at most one robot a class, whatever the team.
+    Local,
+}
+
+impl Order {
+    pub const NAMES: [&'static str; 2] = ["paper", "local"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Order::Paper => "paper",
+            Order::Local => "local",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "paper" => Some(Order::Paper),
+            "local" => Some(Order::Local),
+            _ => None,
+        }
+    }
+}
+
+/// A command-line value (`--order`), one parser for every program.
+impl std::str::FromStr for Order {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Order::from_name(s).ok_or_else(|| format!("`{s}`: one of {}", Order::NAMES.join(", ")))
+    }
 }
 
 /// What ends a slot's decisions and starts its moves (issue 21, point 6).
@@ -184,6 +233,7 @@ impl Params {
             choices_update_maps: defaults::choices_update_maps(),
             ru_collisions: RuCollisions::default(),
             slot: SlotRule::default(),
+            order: Order::default(),
         }
     }
 

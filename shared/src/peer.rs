@@ -20,9 +20,11 @@
 //!    stops on its own only, and searches again once one of them is heard.
 //!    A robot that hears a stop stops and relays it.
 //! 4. **Choice.** It waits for the choices of its higher-priority
-//!    neighbours (step 4) until `t_wait` after the exchange; those still
-//!    missing are suspected for the slot and treated as standing still.
-//!    Then it chooses (step 5) and broadcasts the choice.
+//!    neighbours (step 4) until `t_wait` after the exchange, and on for
+//!    those that say they still wait themselves (`Frame::Wait`, sent every
+//!    half `t_wait` while a robot waits: long chains in dense teams); those
+//!    still missing are suspected for the slot and treated as standing
+//!    still. Then it chooses (step 5) and broadcasts the choice.
 //! 5. **Acknowledgement.** A robot that receives a choice acknowledges it
 //!    if it has not committed to a conflicting move (it will avoid it), and
 //!    refuses it otherwise.
@@ -167,6 +169,8 @@ struct Heard {
     acked_me: bool,
     refused_me: bool,
     commit: Option<bool>,
+    /// When its last `Wait` frame of this slot arrived (0: none).
+    waiting: Time,
 }
 
 /// A robot heard last slot and expected in range again.
@@ -194,6 +198,8 @@ pub struct Peer<'g> {
     phase: Phase,
     window_end: Time,
     deadline: Time,
+    /// When it next tells that it still waits (`Frame::Wait`).
+    beacon_at: Time,
     choice_ready: Time,
     ack_deadline: Time,
     /// A stop that ends the search is known: carried in every map from now on.
@@ -258,6 +264,7 @@ impl<'g> Peer<'g> {
             phase: Phase::Idle,
             window_end: 0,
             deadline: 0,
+            beacon_at: 0,
             choice_ready: 0,
             ack_deadline: 0,
             stop_known: false,
@@ -349,13 +356,16 @@ impl<'g> Peer<'g> {
         if self.phase == Phase::Choosing {
             self.progress(now, out);
         }
+        if self.phase == Phase::Choosing && !self.has_chosen() {
+            self.beacon(now, out);
+        }
         let alarm = match self.phase {
             Phase::Exchange => Some(self.exchange_end(now)),
             Phase::Choosing if self.has_chosen() => match self.listen_until() {
                 l if l > now => Some(self.ack_deadline.min(l)),
                 _ => Some(self.ack_deadline),
             },
-            Phase::Choosing => Some(self.deadline),
+            Phase::Choosing => Some(self.deadline.min(self.beacon_at)),
             _ => None,
         };
         out.alarm = alarm;
@@ -422,6 +432,7 @@ impl<'g> Peer<'g> {
                     acked_me: false,
                     refused_me: false,
                     commit: None,
+                    waiting: 0,
                 };
                 self.heard.insert(k, h);
                 k
@@ -605,6 +616,11 @@ impl<'g> Peer<'g> {
                     self.heard[k].commit = Some(*moving);
                 }
             }
+            Frame::Wait { .. } => {
+                if let Ok(k) = self.heard.binary_search_by_key(&from, |h| h.id) {
+                    self.heard[k].waiting = self.heard[k].waiting.max(arrived);
+                }
+            }
             Frame::Flood { .. } => unreachable!("handled above"),
         }
     }
@@ -707,6 +723,7 @@ impl<'g> Peer<'g> {
         }
         self.phase = Phase::Choosing;
         self.deadline = self.window_end + self.cfg.timing.wait;
+        self.beacon_at = self.window_end + self.beacon_period();
         // It sensed after its exchange window, among searching neighbours
         // that sensed before it: their choices may be out already, and they
         // have written it off for the slot; it sits the slot out. (A robot
@@ -817,12 +834,9 @@ impl<'g> Peer<'g> {
                 // ask: a robot slow for good must still search.
                 robot.stay();
             } else if now >= self.deadline && !robot.ready() {
-                let late: Vec<RobotId> = robot.waiting_for().collect();
-                for j in late {
-                    robot.suspect(j);
-                    out.notes.push(Note::TimedOut { robot: j });
-                }
+                self.expire(now, out);
             }
+            let robot = self.robot.as_mut().expect("started");
             let Some(mut c) = robot.choice().or_else(|| robot.choose()) else {
                 return;
             };
@@ -873,6 +887,53 @@ impl<'g> Peer<'g> {
             }
             Acks::Waiting => {}
         }
+    }
+
+    /// At its deadline, step 4's wait ends for every robot it waits for
+    /// that has been silent for `t_wait`: suspected for the slot, treated as
+    /// standing still. One that told it waits itself (`Frame::Wait`) within
+    /// `t_wait` is alive, behind a longer chain than `t_wait` covers: it
+    /// waits on, until `t_wait` after that robot's last word (or the fixed
+    /// slot's end). So a dead robot is still given up after `t_wait` of
+    /// silence, and a live one never is while its frames arrive.
+    fn expire(&mut self, now: Time, out: &mut Output<Frame>) {
+        let wait = self.cfg.timing.wait;
+        let robot = self.robot.as_mut().expect("started");
+        let awaited: Vec<RobotId> = robot.waiting_for().collect();
+        let mut next = Time::MAX;
+        for j in awaited {
+            let said = self.heard.binary_search_by_key(&j, |h| h.id).map_or(0, |k| self.heard[k].waiting);
+            let until = said.max(self.window_end) + wait;
+            if until > now && until < self.slot_end {
+                next = next.min(until);
+            } else {
+                robot.suspect(j);
+                out.notes.push(Note::TimedOut { robot: j });
+            }
+        }
+        if next < Time::MAX {
+            self.deadline = next;
+        }
+    }
+
+    /// How often a waiting robot says so: twice a `t_wait`, so that a
+    /// `Wait` reaches every robot waiting for it within its `t_wait`, with
+    /// half a `t_wait` to spare for exchange windows widened differently.
+    fn beacon_period(&self) -> Time {
+        (self.cfg.timing.wait / 2).max(1)
+    }
+
+    /// Still waiting for choices ahead of it: at every beacon time it tells
+    /// the robots behind it that it is alive and waits (`Frame::Wait`). A
+    /// chain shorter than half a `t_wait` never sends one.
+    fn beacon(&mut self, now: Time, out: &mut Output<Frame>) {
+        if now < self.beacon_at {
+            return;
+        }
+        while self.beacon_at <= now {
+            self.beacon_at += self.beacon_period();
+        }
+        self.send(out, Frame::Wait { round: self.round, from: self.id() }, now);
     }
 
     /// Whether every neighbour heard this slot has acknowledged the choice

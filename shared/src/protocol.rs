@@ -38,6 +38,11 @@ pub enum Frame {
     Commit { round: u32, from: RobotId, moving: bool },
     /// Steps 1 and 8, flooded over several hops: targets found, and the stop.
     Flood { round: u32, from: RobotId, targets: Vec<u32>, stop: bool },
+    /// The sender has not chosen yet, and still waits for the choices of
+    /// robots ahead of it (step 4): sent every half `t_wait` while it
+    /// waits, so that robots waiting for its choice in turn know it alive
+    /// and wait on (`crate::peer`, "long chains").
+    Wait { round: u32, from: RobotId },
 }
 
 impl Frame {
@@ -47,7 +52,8 @@ impl Frame {
             | Frame::Choice { round, .. }
             | Frame::Ack { round, .. }
             | Frame::Commit { round, .. }
-            | Frame::Flood { round, .. } => *round,
+            | Frame::Flood { round, .. }
+            | Frame::Wait { round, .. } => *round,
         }
     }
 
@@ -57,7 +63,8 @@ impl Frame {
             | Frame::Choice { from, .. }
             | Frame::Ack { from, .. }
             | Frame::Commit { from, .. }
-            | Frame::Flood { from, .. } => *from,
+            | Frame::Flood { from, .. }
+            | Frame::Wait { from, .. } => *from,
         }
     }
 
@@ -77,6 +84,7 @@ impl Frame {
                 let tag = targets.iter().fold(0, |t, &x| t | if x < 63 { 1 << x } else { FLOOD_OTHER });
                 (KIND_FLOOD, if *stop { tag | FLOOD_OTHER } else { tag })
             }
+            Frame::Wait { .. } => (KIND_WAIT, 0),
         };
         Header { kind, round: self.round(), tag }
     }
@@ -89,6 +97,7 @@ impl Frame {
             Frame::Ack { .. } => "ack",
             Frame::Commit { .. } => "commit",
             Frame::Flood { .. } => "flood",
+            Frame::Wait { .. } => "wait",
         }
     }
 }
@@ -99,6 +108,7 @@ pub const KIND_CHOICE: u8 = 1;
 pub const KIND_ACK: u8 = 2;
 pub const KIND_COMMIT: u8 = 3;
 pub const KIND_FLOOD: u8 = 4;
+pub const KIND_WAIT: u8 = 5;
 
 /// A flood's tag bit for a stop, or a target of 63 or more.
 pub const FLOOD_OTHER: u64 = 1 << 63;
@@ -229,7 +239,7 @@ pub fn check(f: &Frame, limits: &Limits) -> Result<(), DecodeError> {
                 in_range("robot", r as usize, limits.robots)?;
             }
         }
-        Frame::Commit { .. } => {}
+        Frame::Commit { .. } | Frame::Wait { .. } => {}
         Frame::Flood { targets, .. } => {
             for &t in targets {
                 in_range("target", t as usize, limits.targets)?;
@@ -263,6 +273,7 @@ mod tests {
             Frame::Ack { round: 5, from: 3, acked: vec![0, 4], refused: vec![9] },
             Frame::Commit { round: 6, from: 2, moving: true },
             Frame::Flood { round: 3, from: 1, targets: vec![0, 8], stop: false },
+            Frame::Wait { round: 5, from: 7 },
         ]
     }
 
@@ -276,7 +287,7 @@ mod tests {
     #[test]
     fn a_header_reads_the_same_from_the_frame_and_from_its_bytes() {
         let kinds: Vec<u8> = frames().iter().map(|f| f.header().kind).collect();
-        assert_eq!(kinds, [KIND_MAP, KIND_CHOICE, KIND_ACK, KIND_COMMIT, KIND_FLOOD]);
+        assert_eq!(kinds, [KIND_MAP, KIND_CHOICE, KIND_ACK, KIND_COMMIT, KIND_FLOOD, KIND_WAIT]);
         for f in frames() {
             assert_eq!(header_of(&encode(&f)), Some(f.header()), "{f:?}");
         }
@@ -321,6 +332,7 @@ mod tests {
             Frame::Choice { round: 0, from: 1, at: 0, next: 100, accounted: vec![] },
             Frame::Choice { round: 0, from: 1, at: 0, next: 1, accounted: vec![13] },
             Frame::Ack { round: 0, from: 1, acked: vec![], refused: vec![13] },
+            Frame::Wait { round: 0, from: 13 },
             Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: Map::new(101, 9) },
             Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: Map::new(100, 70) },
         ];
@@ -342,7 +354,7 @@ mod tests {
         }
 
         #[test]
-        fn corrupted_frames_never_panic(k in 0usize..5, flips in prop::collection::vec((0usize..2000, any::<u8>()), 1..8)) {
+        fn corrupted_frames_never_panic(k in 0usize..6, flips in prop::collection::vec((0usize..2000, any::<u8>()), 1..8)) {
             let mut bytes = encode(&frames()[k]);
             for (i, b) in flips {
                 let n = bytes.len();

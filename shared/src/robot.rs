@@ -24,7 +24,7 @@ use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::MAX_DEGREE;
 use crate::map::{Map, RobotId, SENSED};
-use crate::params::Situation;
+use crate::params::{Order, Situation};
 use crate::policy::Policy;
 use crate::rng::robot_rng;
 
@@ -41,6 +41,8 @@ pub struct RobotConfig {
     /// Reading "choices update maps" (docs/paper.md): a received choice marks
     /// its vertex visited in the receiver's map at once.
     pub choices_update_maps: bool,
+    /// Step 4's order ([`Order`]): the paper's, or a local one.
+    pub order: Order,
 }
 
 impl RobotConfig {
@@ -53,7 +55,16 @@ impl RobotConfig {
         r_safe: f64,
         seed: u64,
     ) -> Self {
-        RobotConfig { id, policy, situation, targets_total, r_safe, seed, choices_update_maps: true }
+        RobotConfig {
+            id,
+            policy,
+            situation,
+            targets_total,
+            r_safe,
+            seed,
+            choices_update_maps: true,
+            order: Order::Paper,
+        }
     }
 }
 
@@ -326,7 +337,7 @@ impl<'g> Robot<'g> {
                 if self.map.is_failed(from) {
                     self.map.revive(from, self.round);
                 }
-                let key = self.grid.priority_key(at);
+                let key = self.key_of(at);
                 let n = Neighbour { id: from, at, key, map_in: false, choice: None, suspected: false, halted: false };
                 // Sorted by id so every later pass visits neighbours in one fixed order.
                 let k = self.nbrs.partition_point(|m| m.id < from);
@@ -526,21 +537,30 @@ impl<'g> Robot<'g> {
         self.cfg.policy.sequential()
     }
 
-    fn key(&self) -> (i64, i64) {
-        self.grid.priority_key(self.pos)
+    /// Step 4's priority of a robot on `v`: higher chooses first. The
+    /// paper's key orders by position; the local order's is the vertex's
+    /// class, the first class first.
+    fn key_of(&self, v: VertexId) -> (i64, i64) {
+        match self.cfg.order {
+            Order::Paper => self.grid.priority_key(v),
+            Order::Local => (-(self.grid.class(v) as i64), 0),
+        }
     }
 
     /// Higher-priority neighbours this robot still waits for (sequential
     /// policies only): heard, not failed or suspected, not halted, and
     /// without an announced choice.
     pub fn waiting_for(&self) -> impl Iterator<Item = RobotId> + '_ {
-        // Robots stacked on one vertex (after a collision under loss) tie:
-        // the higher id goes first.
-        let me = (self.key(), self.cfg.id);
+        // Equal keys: under the paper's order, robots stacked on one vertex
+        // (after a collision under loss), where the higher id goes first;
+        // under the local order also robots of one class, more than `2a`
+        // apart, which cannot collide and wait for nobody of their class.
+        let (key, pos, id) = (self.key_of(self.pos), self.pos, self.cfg.id);
         let seq = self.sequential();
+        let ahead = move |n: &Neighbour| n.key > key || (n.key == key && n.at == pos && n.id > id);
         self.nbrs
             .iter()
-            .filter(move |n| seq && !n.suspected && !n.halted && (n.key, n.id) > me && n.choice.is_none())
+            .filter(move |n| seq && !n.suspected && !n.halted && ahead(n) && n.choice.is_none())
             .map(|n| n.id)
     }
 

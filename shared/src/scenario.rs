@@ -16,6 +16,7 @@
 //! r_safe = 0.30             # (Params::derived); t_rot, t_trans, t_choice in seconds
 //! ru_collisions = "per-pair" # RU's collisions: per-pair (default) | back-off (RuCollisions)
 //! slot = "adaptive"         # what ends a slot: adaptive (default) | fixed (SlotRule)
+//! order = "paper"           # who waits for whose choice: paper (default) | local (Order)
 //!
 //! [area]                    # required: a simple polygon, corners in either order
 //! polygon = [[0, 0], [20, 0], [20, 16], [0, 16]]

@@ -79,6 +79,7 @@ impl RobotSetup {
             r_safe: self.params.r_safe,
             seed: self.seed,
             choices_update_maps: self.params.choices_update_maps,
+            order: self.params.order,
         };
         PeerConfig::new(rc, &self.params)
     }

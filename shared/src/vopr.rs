@@ -21,7 +21,8 @@
 //! Cases reach past the bounds the design states: frames later than the
 //! widest window, jitter wider than the choice time, loss mixed with crashes, robots slow by up to 10 s,
 //! teams of up to 60 on `cave` and random maps, every grid algorithm, and
-//! both slot rules (`SlotRule`; fixed in 30% of cases).
+//! both slot rules (`SlotRule`; fixed in 30% of cases) and both choice
+//! orders (`Order`; local in 30%).
 //! A failing case prints a `gridswarm simulate` command line that replays
 //! it exactly.
 
@@ -31,7 +32,7 @@ use std::sync::{Arc, Mutex};
 use crate::engine;
 use crate::grid::VertexId;
 use crate::outcome::{RunConfig, RunResult};
-use crate::params::{Params, Situation, SlotRule};
+use crate::params::{Order, Params, Situation, SlotRule};
 use crate::peer::Timing;
 use crate::policy::Policy;
 use crate::rng::{derive, mix};
@@ -62,6 +63,8 @@ pub struct Case {
     pub robots: usize,
     /// The slot rule (a parameter of the world, not of the run's config).
     pub slot: SlotRule,
+    /// Step 4's order (a parameter of the world too).
+    pub order: Order,
     pub config: RunConfig,
 }
 
@@ -89,7 +92,9 @@ pub fn case(seed: u64, index: u64) -> Case {
     cfg.faults = faults(number, robots);
     // Both slot rules: the world's idealized barrier, and the robots' clocks.
     let slot = if chance(number, 50, 0.3) { SlotRule::Fixed } else { SlotRule::Adaptive };
-    Case { number, scenario, robots, slot, config: cfg }
+    // Both choice orders: the paper's, and the local one of bounded depth.
+    let order = if chance(number, 51, 0.3) { Order::Local } else { Order::Paper };
+    Case { number, scenario, robots, slot, order, config: cfg }
 }
 
 fn pick_scenario(mut k: u64) -> &'static str {
@@ -203,6 +208,9 @@ impl Case {
         if self.slot == SlotRule::Fixed {
             cmd += " --slot fixed";
         }
+        if self.order == Order::Local {
+            cmd += " --order local";
+        }
         let r = &c.radio;
         if r.delay > 0 || r.jitter > 0 {
             cmd += &format!(" --delay {}:{}", r.delay as f64 / 1000.0, r.jitter as f64 / 1000.0);
@@ -280,28 +288,29 @@ pub fn check(case: &Case, r: &RunResult, suspect_rounds: u32) -> Result<(), Viol
 /// by every thread of a test.
 #[derive(Default)]
 pub struct Worlds {
-    built: Mutex<HashMap<(&'static str, SlotRule), Arc<(Scenario, World)>>>,
+    built: Mutex<HashMap<(&'static str, SlotRule, Order), Arc<(Scenario, World)>>>,
     starts: Mutex<HashMap<(&'static str, usize), Arc<Vec<VertexId>>>>,
 }
 
 impl Worlds {
-    /// The world of `scenario` under `slot`, built on first use.
-    pub fn world(&self, scenario: &'static str, slot: SlotRule) -> Arc<(Scenario, World)> {
-        if let Some(w) = self.built.lock().expect("not poisoned").get(&(scenario, slot)) {
+    /// The world of `scenario` under `slot` and `order`, built on first use.
+    pub fn world(&self, scenario: &'static str, slot: SlotRule, order: Order) -> Arc<(Scenario, World)> {
+        if let Some(w) = self.built.lock().expect("not poisoned").get(&(scenario, slot, order)) {
             return w.clone();
         }
         let mut sc = Scenario::load(scenario).unwrap_or_else(|e| panic!("{scenario}: {e}"));
         sc.params.slot = slot;
+        sc.params.order = order;
         let w = Arc::new({
             let world = sc.world();
             (sc, world)
         });
-        self.built.lock().expect("not poisoned").entry((scenario, slot)).or_insert(w).clone()
+        self.built.lock().expect("not poisoned").entry((scenario, slot, order)).or_insert(w).clone()
     }
 
     /// `case`'s world and its robots' start vertices.
     pub fn of(&self, case: &Case) -> (Arc<(Scenario, World)>, Arc<Vec<VertexId>>) {
-        let w = self.world(case.scenario, case.slot);
+        let w = self.world(case.scenario, case.slot, case.order);
         let key = (case.scenario, case.robots);
         if let Some(s) = self.starts.lock().expect("not poisoned").get(&key) {
             return (w, s.clone());

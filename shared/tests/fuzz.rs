@@ -335,6 +335,7 @@ fn frame() -> impl Strategy<Value = Frame> {
         (round(), from(), any::<bool>()).prop_map(|(round, from, moving)| Frame::Commit { round, from, moving }),
         (round(), from(), prop::collection::vec(0u32..9, 0..5), any::<bool>())
             .prop_map(|(round, from, targets, stop)| Frame::Flood { round, from, targets, stop }),
+        (round(), from()).prop_map(|(round, from)| Frame::Wait { round, from }),
     ]
 }
 

@@ -85,7 +85,7 @@ fn faulty_runs_never_collide_always_end_and_detect_every_crash() {
                 }
                 let case = vopr::case(seed, i);
                 let r = worlds.run(&case);
-                let suspect_rounds = worlds.world(case.scenario, case.slot).1.params.suspect_rounds;
+                let suspect_rounds = worlds.world(case.scenario, case.slot, case.order).1.params.suspect_rounds;
                 tally.record(i, seed, &case, &r, suspect_rounds);
             });
         }
@@ -159,5 +159,7 @@ fn cases_are_reproducible_and_varied() {
     assert!(cases.iter().filter(|c| c.in_bound()).count() > cases.len() / 2);
     let fixed = cases.iter().filter(|c| c.slot == gridswarm::params::SlotRule::Fixed).count();
     assert!(fixed > cases.len() / 5 && fixed < cases.len() / 2, "{fixed} of {} under the fixed slot", cases.len());
+    let local = cases.iter().filter(|c| c.order == gridswarm::params::Order::Local).count();
+    assert!(local > cases.len() / 5 && local < cases.len() / 2, "{local} of {} under the local order", cases.len());
     assert!(cases[0].command().starts_with("cargo run --release --bin gridswarm -- simulate --scenario "));
 }

@@ -185,6 +185,37 @@ fn same_trajectories_as_simulate_under_the_fixed_slot() {
     }
 }
 
+/// Under the local choice order, and with robots waiting on a frozen
+/// neighbour past half a `t_wait` (so they send `Wait` frames, which
+/// their neighbours hold in their radio buffers), both engines make the
+/// same run.
+#[test]
+fn same_trajectories_as_simulate_under_the_local_order_and_long_waits() {
+    let _s = serial();
+    let dir = scratch("local-order");
+    let cases: [&[&str]; 3] = [
+        &["--order", "local", "--robots", "9", "--seed", "4"],
+        &["--order", "local", "--algorithm", "sequential", "--robots", "9", "--seed", "8", "--freeze", "1@2+0.02:6"],
+        &["--robots", "9", "--seed", "8", "--freeze", "5@2+0.02:6", "--kill", "2@4+0.05"],
+    ];
+    for (k, case) in cases.iter().enumerate() {
+        let args = [&["--scenario", "paper"][..], case].concat();
+        let tag = format!("order {args:?}");
+        let (d, s) = (dir.join(format!("run-{k}")), dir.join(format!("sim-{k}")));
+        let summary = run_into(&d, &args);
+        search(&[&["simulate", "--out", s.to_str().unwrap()][..], &args[..]].concat());
+        assert_same_run(&tag, &d, &s, &summary);
+        assert_same_agreement(&tag, &summary, &s);
+        let order = if case.contains(&"local") { "local" } else { "paper" };
+        assert_eq!(summary["params"]["order"], order, "{tag}");
+        if k > 0 {
+            // Robots gave up on the frozen one after a `t_wait`: they told
+            // theirs they waited half-way.
+            assert!(num(&summary["protocol"]["timeouts"]) > 0, "{tag}: nobody waited on the frozen robot");
+        }
+    }
+}
+
 /// Options of `gridswarm run` on the paper scenario, 13 robots.
 fn options(seed: u64, situation: Situation) -> RunOptions {
     let mut o = RunOptions::for_experiment("paper".into(), Policy::Repulsive, 13, seed, situation, 0, 100_000);

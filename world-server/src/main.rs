@@ -122,6 +122,9 @@ fn load(path: &PathBuf) -> Result<Loaded, String> {
     if let Some(s) = run.slot {
         scenario.params.slot = s;
     }
+    if let Some(o) = run.order {
+        scenario.params.order = o;
+    }
     scenario.situation = run.config.situation;
     if !run.config.policy.on_grid() {
         return Err(format!(

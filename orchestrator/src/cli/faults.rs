@@ -1,7 +1,7 @@
 //! The failure and radio flags of `simulate` and `run` (`--kill`,
 //! `--freeze`, `--kill-random`, `--slow`, `--loss`, `--retries`, `--delay`,
 //! `--dup`), and the run's other settings beyond its identity (`--slot`,
-//! `--starts`), defined once, and their one conversion into what an engine
+//! `--order`, `--starts`), defined once, and their one conversion into what an engine
 //! runs with: the faults and radio of a [`RunConfig`] (in-process) or a
 //! [`RunOptions`] (distributed). Times and shapes are parsed by
 //! [`gridswarm::sim::schedule`]; what needs the run (robot ids, one failure
@@ -9,7 +9,7 @@
 //! usage error.
 
 use gridswarm::outcome::RunConfig;
-use gridswarm::params::{Params, Situation, SlotRule};
+use gridswarm::params::{Order, Params, Situation, SlotRule};
 use gridswarm::policy::Policy;
 use gridswarm::scenario::StartRule;
 use gridswarm::sim::{schedule, Fault, Radio, Time};
@@ -65,6 +65,11 @@ pub struct FaultFlags {
     /// commanded) or `fixed` (the robots' clocks) [default: the scenario's params.slot].
     #[arg(long, value_name = "RULE")]
     pub slot: Option<SlotRule>,
+    /// Step 4's order, who waits for whose choice: `paper` (by position,
+    /// chains grow with the team) or `local` (by vertex class, at most 7
+    /// choices in a row; not the paper's) [default: the scenario's params.order].
+    #[arg(long, value_name = "ORDER")]
+    pub order: Option<Order>,
     /// Where the robots start: `fixed` (the scenario's [starts], as in Fig. 5) or `random`
     /// (distinct vertices drawn from the seed, on the border when the scenario starts there).
     #[arg(long, value_name = "RULE", default_value_t = StartRule::Fixed)]
@@ -83,6 +88,8 @@ pub struct FaultPlan {
     pub retries: Option<u32>,
     /// Overrides the scenario's `params.slot`.
     pub slot: Option<SlotRule>,
+    /// Overrides the scenario's `params.order`.
+    pub order: Option<Order>,
     /// Where the robots start; it applies to every algorithm, so
     /// [`FaultPlan::is_empty`] leaves it out.
     pub starts: StartRule,
@@ -100,6 +107,7 @@ impl FaultFlags {
             radio: Radio { loss: self.loss, delay, jitter, dup: self.dup },
             retries: self.retries,
             slot: self.slot,
+            order: self.order,
             starts: self.starts,
         }
     }
@@ -113,6 +121,7 @@ impl FaultPlan {
             && self.radio.is_perfect()
             && self.retries.is_none()
             && self.slot.is_none()
+            && self.order.is_none()
     }
 
     /// Checks the plan against a run of `policy` with `robots` robots.
@@ -120,7 +129,7 @@ impl FaultPlan {
         if !policy.on_grid() && !self.is_empty() {
             return Err(Error::Usage(format!(
                 "`{policy}` moves off the grid without the radio protocol: \
-                 --kill, --freeze, --kill-random, --slow, --loss, --retries, --delay, --dup and --slot apply to grid policies only"
+                 --kill, --freeze, --kill-random, --slow, --loss, --retries, --delay, --dup, --slot and --order apply to grid policies only"
             )));
         }
         for (name, p) in [("--loss", self.radio.loss), ("--dup", self.radio.dup)] {
@@ -156,6 +165,9 @@ impl FaultPlan {
         }
         if let Some(s) = self.slot {
             params.slot = s;
+        }
+        if let Some(o) = self.order {
+            params.order = o;
         }
     }
 
@@ -197,6 +209,7 @@ impl FaultPlan {
             radio: self.radio,
             retries: self.retries,
             slot: self.slot,
+            order: self.order,
             faults: self.faults.clone(),
             kill_random: self.kill_random,
             out: base.out,

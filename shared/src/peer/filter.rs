@@ -3,7 +3,7 @@
 //! would not have changed anything it did.
 
 use super::Peer;
-use crate::protocol::{FLOOD_OTHER, KIND_ACK, KIND_COMMIT, KIND_FLOOD};
+use crate::protocol::{FLOOD_OTHER, KIND_ACK, KIND_COMMIT, KIND_FLOOD, KIND_WAIT};
 use crate::robot::Robot;
 use crate::sim::Listen;
 
@@ -15,7 +15,9 @@ impl Peer<'_> {
     /// this robot, which it reads only once it chose); commits, unless,
     /// after it chose, from a robot it heard on the vertex it chose (the
     /// only commit it reads); floods that carry only targets it has
-    /// flooded already and no stop (it would learn and relay nothing).
+    /// flooded already and no stop (it would learn and relay nothing);
+    /// waits (what it reads of one is its arrival time, and only at its
+    /// deadline).
     /// Reading a held frame later, before the frames that came after it,
     /// leaves it as reading it on arrival would have: the radio hands them
     /// over, in order, with whatever wakes it next. And a wake-up with
@@ -34,6 +36,7 @@ impl Peer<'_> {
         // Targets below 63 are their own tag bits: the bitset's first word.
         let flooded = self.flooded.words().first().copied().unwrap_or(0) & !FLOOD_OTHER;
         tags[KIND_FLOOD as usize] = !flooded;
-        Listen { on: true, round: self.round, hold: 1 << KIND_ACK | 1 << KIND_COMMIT | 1 << KIND_FLOOD, except, tags }
+        let hold = 1 << KIND_ACK | 1 << KIND_COMMIT | 1 << KIND_FLOOD | 1 << KIND_WAIT;
+        Listen { on: true, round: self.round, hold, except, tags }
     }
 }

@@ -10,7 +10,7 @@ use super::{gaps, Scenario, ScenarioError, Starts};
 use crate::geometry::{Circle, Point, Polygon, Shape};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
-use crate::params::{Params, RuCollisions, Situation, SlotRule};
+use crate::params::{Order, Params, RuCollisions, Situation, SlotRule};
 
 /// A point as written: `[x, y]`, exactly two numbers. A plain `[f64; 2]`
 /// took the first two elements of any longer array (`[10, 0, "x"]`).
@@ -89,6 +89,7 @@ struct RawParams {
     choices_update_maps: Option<bool>,
     ru_collisions: Option<String>,
     slot: Option<String>,
+    order: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -396,6 +397,11 @@ impl RawParams {
         if let Some(name) = self.slot {
             p.slot = SlotRule::from_name(&name).ok_or_else(|| {
                 ctx.err("params.slot", format!("must be one of {}, got `{name}`", SlotRule::NAMES.join(", ")))
+            })?;
+        }
+        if let Some(name) = self.order {
+            p.order = Order::from_name(&name).ok_or_else(|| {
+                ctx.err("params.order", format!("must be one of {}, got `{name}`", Order::NAMES.join(", ")))
             })?;
         }
         Ok(p)

@@ -71,6 +71,9 @@ impl Scenario {
         if p.slot != crate::params::SlotRule::Adaptive {
             let _ = writeln!(s, "slot = {}", quoted(p.slot.name()));
         }
+        if p.order != crate::params::Order::Paper {
+            let _ = writeln!(s, "order = {}", quoted(p.order.name()));
+        }
         if geometry {
             self.write_geometry(&mut s);
         }

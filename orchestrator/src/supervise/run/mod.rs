@@ -34,7 +34,7 @@ use gridswarm::ipc::{self, RunFile, RunReport};
 use gridswarm::nofile;
 use gridswarm::outcome::{RunConfig, RunResult};
 use gridswarm::params::Situation;
-use gridswarm::params::SlotRule;
+use gridswarm::params::{Order, SlotRule};
 use gridswarm::policy::Policy;
 use gridswarm::scenario::{Scenario, StartRule};
 use gridswarm::sim::{self, schedule, Fault};
@@ -78,6 +78,8 @@ pub struct RunOptions {
     pub retries: Option<u32>,
     /// Overrides the scenario's `params.slot`.
     pub slot: Option<SlotRule>,
+    /// Overrides the scenario's `params.order`.
+    pub order: Option<Order>,
     /// Faults given explicitly (checked with [`schedule::check`]).
     pub faults: Vec<Fault>,
     /// Crash this many more robots at times drawn from the seed.
@@ -114,6 +116,7 @@ impl RunOptions {
             radio: sim::Radio::default(),
             retries: None,
             slot: None,
+            order: None,
             faults: Vec::new(),
             kill_random,
             out: None,
@@ -197,6 +200,9 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
     }
     if let Some(s) = opts.slot {
         scenario.params.slot = s;
+    }
+    if let Some(o) = opts.order {
+        scenario.params.order = o;
     }
     let robots = opts.robots.unwrap_or(scenario.robots);
     if robots == 0 || robots > ipc::MAX_ROBOTS {
@@ -283,6 +289,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         robots: plan.robots,
         retries: opts.retries,
         slot: opts.slot,
+        order: opts.order,
         starts: opts.starts,
         config: plan.cfg.clone(),
     };

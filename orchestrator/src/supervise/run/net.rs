@@ -162,6 +162,9 @@ pub fn hand_hint(key: &str, opts: &super::RunOptions, plan: &super::Plan) -> Str
     if let Some(s) = opts.slot {
         extra += &format!(" --slot {}", s.name());
     }
+    if let Some(o) = opts.order {
+        extra += &format!(" --order {}", o.name());
+    }
     format!(
         "waiting for {} robot-agents; on their hosts run, once for each robot number K ({}):\n  \
          robot-agent --transport zenoh --prefix {key}{connect} --scenario {} --seed {} --algorithm {}{extra} --robot K{}",

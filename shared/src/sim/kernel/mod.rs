@@ -153,9 +153,13 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         // wait for choices, the choice, a wait for acknowledgements, a few
         // hops), with room for a robot slow by up to 4 t_wait: a late robot
         // reacts twice, to sense and to decide after listening a window
-        // (`Peer::start_slot`).
+        // (`Peer::start_slot`). Robots waiting for a longer chain of choices
+        // than `t_wait` covers wait on while its robots say they wait
+        // (`Frame::Wait`): a chain through the whole team, one choice and
+        // one latency a link, stays inside the limit too.
         let widest = exchange * (1 + crate::peer::MAX_WIDEN);
-        let slot_limit = widest + 8 * wait + micros(p.t_choice) + 20 * micros(p.t_hop);
+        let link = micros(p.t_choice) + micros(p.t_hop) + cfg.radio.delay + cfg.radio.jitter;
+        let slot_limit = widest + 8 * wait + micros(p.t_choice) + 20 * micros(p.t_hop) + n as Time * link;
         let fixed = crate::peer::Timing::from_params(p).decision;
         let bots = (0..n)
             .map(|_| Bot {
