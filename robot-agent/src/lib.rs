@@ -466,7 +466,7 @@ pub struct Overrides {
 }
 
 /// The setup the orchestrator writes for robot `robot` of a run of
-/// `scenario` (its `RobotSetup::new` of the scenario's world, after the
+/// `scenario` (its `RunConfig::robot_setup` of the scenario's world, after the
 /// run's situation and retries): what an agent started by hand holds.
 pub fn derived_setup(
     scenario: &str,
@@ -510,7 +510,7 @@ pub fn derived(
     }
     let world = sc.world();
     let agreement = Agreement::new(key, id, seed, policy, sc.situation, world.params);
-    Ok((RobotSetup::new(&world, &RunConfig::new(policy, seed, sc.situation), robot), agreement))
+    Ok((RunConfig::new(policy, seed, sc.situation).robot_setup(&world, robot), agreement))
 }
 
 /// The setup and agreement from `--setup`, or derived from the scenario.

@@ -7,7 +7,6 @@ use std::process::Command;
 
 use gridswarm::params::{Situation, SlotRule};
 use gridswarm::policy::Policy;
-use gridswarm::setup::RobotSetup;
 use gridswarm_orchestrator::run::{self, RunOptions};
 use robot_agent::Overrides;
 
@@ -28,7 +27,7 @@ fn a_derived_setup_is_the_one_the_orchestrator_writes() {
         o.slot = slot;
         let retries = Overrides { retries, slot };
         let plan = run::plan(&o).unwrap();
-        let written = RobotSetup::new(&plan.world, &plan.cfg, robot);
+        let written = plan.cfg.robot_setup(&plan.world, robot);
         let sit = if situation == Situation::One { 1 } else { 2 };
         let derived = robot_agent::derived_setup(scenario, robot, 41, policy.name(), Some(sit), retries).unwrap();
         assert_eq!(derived, written, "{scenario} {policy} robot {robot}");
