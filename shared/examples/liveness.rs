@@ -1,16 +1,28 @@
 //! Issue 21's liveness goal, measured: with up to three crashes or freezes
 //! (and nothing else wrong), how many rounds a run takes against its
-//! fault-free twin (same scenario, team, algorithm and seed, no faults).
+//! fault-free twin (same scenario, team, algorithm and seed, no faults),
+//! and against its survivors' twin (the same, fault-free, with only as
+//! many robots as are left running at the end: a team cut from 4 robots to
+//! 1 cannot search as fast as 4, whatever the protocol does).
 //! `cargo run --release --example liveness -- SEED COUNT [ALGORITHM]`
 //! Cases are the simulation test's (`vopr::case`) with their radio made
 //! perfect and slow robots dropped, and RU left out (its robots are
 //! particles, with no failure detection to speak of); runs whose twin does
-//! not end are left out and counted. Prints the ratio's quantiles, by
+//! not end are left out and counted. Prints the ratios' quantiles, by
 //! scenario and overall, and the worst cases with their reproducers.
-use gridswarm::engine;
 use gridswarm::policy::Policy;
-use gridswarm::sim::{FaultKind, Radio};
-use gridswarm::vopr::{self, Worlds};
+use gridswarm::sim::{Fault, FaultKind, Radio};
+use gridswarm::vopr::{self, Case, Worlds};
+
+/// One faulty run against its two twins.
+struct Row {
+    scenario: &'static str,
+    ended_by: String,
+    rounds: u32,
+    twin: u32,
+    survivors_twin: u32,
+    command: String,
+}
 
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
@@ -21,7 +33,7 @@ fn main() {
     };
     let only = a.get(2).cloned();
     let worlds = Worlds::default();
-    let mut rows: Vec<(f64, &'static str, String, u32, u32, String)> = Vec::new();
+    let mut rows: Vec<Row> = Vec::new();
     let mut twin_endless = 0;
     for i in 0..count {
         let mut case = vopr::case(seed, i);
@@ -34,40 +46,74 @@ fn main() {
         if c.faults.is_empty() {
             continue;
         }
-        let (w, starts) = worlds.of(&case);
-        let faulty = engine::run(&w.1, &starts, &case.config);
-        let mut twin_cfg = case.config.clone();
-        twin_cfg.faults.clear();
-        let twin = engine::run(&w.1, &starts, &twin_cfg);
-        if twin.protocol.ended_by == "max_rounds" {
+        let faulty = worlds.run(&case);
+        let Some(twin) = fault_free(&worlds, &case, case.robots) else {
             twin_endless += 1;
             continue;
-        }
-        let ratio = faulty.rounds as f64 / twin.rounds.max(1) as f64;
-        rows.push((ratio, case.scenario, faulty.protocol.ended_by.clone(), faulty.rounds, twin.rounds, case.command()));
+        };
+        let survivors = case.robots - gone(&case.config.faults);
+        let Some(survivors_twin) = fault_free(&worlds, &case, survivors) else {
+            twin_endless += 1;
+            continue;
+        };
+        let (scenario, ended_by, rounds) = (case.scenario, faulty.protocol.ended_by.clone(), faulty.rounds);
+        rows.push(Row { scenario, ended_by, rounds, twin, survivors_twin, command: case.command() });
     }
-    rows.sort_by(|x, y| x.0.total_cmp(&y.0));
+    println!("fault-free twins that did not end (cases left out): {twin_endless}");
+    let full = |r: &Row| r.rounds as f64 / r.twin.max(1) as f64;
+    let survivors = |r: &Row| r.rounds as f64 / r.survivors_twin.max(1) as f64;
+    table("rounds / fault-free twin's", &rows, full);
+    table("rounds / survivors' twin's", &rows, survivors);
+    rows.sort_by(|x, y| survivors(x).total_cmp(&survivors(y)));
+    for r in rows.iter().rev().take(5) {
+        println!(
+            "{:.1}x survivors' twin ({} rounds, twin {}, survivors' twin {}, {}): {}",
+            survivors(r),
+            r.rounds,
+            r.twin,
+            r.survivors_twin,
+            r.ended_by,
+            r.command
+        );
+    }
+}
+
+/// Robots that end the run not running: crashed, or frozen and not thawed.
+fn gone(faults: &[Fault]) -> usize {
+    let mut robots: Vec<usize> = faults.iter().map(|f| f.robot).collect();
+    robots.sort();
+    robots.dedup();
+    let thawed = |r: usize| {
+        let last = faults.iter().filter(|f| f.robot == r).max_by_key(|f| (f.round, f.offset));
+        last.is_some_and(|f| f.kind == FaultKind::Thaw)
+    };
+    robots.into_iter().filter(|&r| !thawed(r)).count()
+}
+
+/// The rounds of `case` without faults, with `robots` robots, if it ends.
+fn fault_free(worlds: &Worlds, case: &Case, robots: usize) -> Option<u32> {
+    let mut twin = case.clone();
+    twin.robots = robots;
+    twin.config.faults.clear();
+    let r = worlds.run(&twin);
+    (r.protocol.ended_by != "max_rounds").then_some(r.rounds)
+}
+
+/// The quantiles of `ratio` over `rows`, by scenario and overall.
+fn table(title: &str, rows: &[Row], ratio: impl Fn(&Row) -> f64) {
     let q = |v: &[f64], p: f64| v[((v.len() as f64 - 1.0) * p).round() as usize];
-    println!("scenario,cases,median,p90,p95,p99,max,endless");
-    let mut names: Vec<&str> = rows.iter().map(|r| r.1).collect();
+    println!("{title}\nscenario,cases,median,p90,p95,p99,max,endless");
+    let mut names: Vec<&str> = rows.iter().map(|r| r.scenario).collect();
     names.sort();
     names.dedup();
     names.push("all");
     for name in names {
-        let v: Vec<f64> = rows.iter().filter(|r| name == "all" || r.1 == name).map(|r| r.0).collect();
-        let endless = rows.iter().filter(|r| (name == "all" || r.1 == name) && r.2 == "max_rounds").count();
-        println!(
-            "{name},{},{:.2},{:.2},{:.2},{:.2},{:.2},{endless}",
-            v.len(),
-            q(&v, 0.5),
-            q(&v, 0.9),
-            q(&v, 0.95),
-            q(&v, 0.99),
-            v[v.len() - 1]
-        );
-    }
-    println!("fault-free twins that did not end (left out): {twin_endless}");
-    for r in rows.iter().rev().take(5) {
-        println!("{:.1}x ({} rounds, twin {}, {}): {}", r.0, r.3, r.4, r.2, r.5);
+        let of = |r: &&Row| name == "all" || r.scenario == name;
+        let mut v: Vec<f64> = rows.iter().filter(of).map(&ratio).collect();
+        v.sort_by(f64::total_cmp);
+        let endless = rows.iter().filter(of).filter(|r| r.ended_by == "max_rounds").count();
+        let (n, max) = (v.len(), v[v.len() - 1]);
+        let (m, p90, p95, p99) = (q(&v, 0.5), q(&v, 0.9), q(&v, 0.95), q(&v, 0.99));
+        println!("{name},{n},{m:.2},{p90:.2},{p95:.2},{p99:.2},{max:.2},{endless}");
     }
 }

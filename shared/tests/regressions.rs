@@ -6,7 +6,8 @@
 //! a live robot falsely declared under loss; survivors wandering for
 //! thousands of rounds; frames later than the exchange window read as dead
 //! neighbours; two late robots, each alone by its own window, stepping
-//! onto one vertex. Each prints the command that replays it.
+//! onto one vertex; two robots meeting on a jittering radio, each alone
+//! by its window. Each prints the command that replays it.
 
 use gridswarm::engine;
 use gridswarm::outcome::RunConfig;
@@ -184,4 +185,19 @@ fn of_two_late_robots_only_the_earlier_moves() {
     let replay = "--algorithm escape --seed 517493990696062897 --situation 2 --max-rounds 2000 \
                   --kill 1@4+0.686493 --kill 3@24+1.447421 --freeze 2@27+0.204788:31+1.245718 --slow 0@8+0.601626:1247";
     ends_on("small", 4, cfg, replay, &["stop"]);
+}
+
+#[test]
+fn a_map_later_than_the_window_by_its_jitter_stops_a_robot_stepping_blind() {
+    // Found with the simulation test's bound moved to the widest window:
+    // frames 20.7 ms late plus up to 95 ms of jitter. The two robots had
+    // measured latencies under the window early on and lost each other for
+    // eight rounds; in round 11, adjacent again, each ended its window
+    // before the other's map came (67 and 93 ms), found itself alone and
+    // both stepped onto (5,3). The maps came before either robot's choice
+    // was ready: a robot now listens until then before it commits.
+    let mut cfg = config(Policy::Sequential, 2774573506600385801, Situation::One, vec![]);
+    cfg.radio = Radio { delay: 20_712, jitter: 94_968, ..Radio::default() };
+    let replay = "--algorithm sequential --seed 2774573506600385801 --situation 1 --delay 20.712:94.968";
+    ends_on("small", 2, cfg, replay, &["stop"]);
 }
