@@ -16,7 +16,7 @@
 //!
 //! Its hello presents the run's agreement as it holds it (key, scenario
 //! hash, seed, algorithm, situation, parameters, protocol version;
-//! [`gridswarm::agreement`]), and it waits for the world's verdict before
+//! [`gridswarm_robot::agreement`]), and it waits for the world's verdict before
 //! it does anything else, saying hello again every [`HELLO_AGAIN`] until
 //! the verdict comes (a lost message over zenoh). Refused (it differs from
 //! the world, its robot number is outside the team or taken), it prints
@@ -46,21 +46,23 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
-use gridswarm::agreement::{Agreement, ScenarioId};
-use gridswarm::choice::registry::{self, Factory};
-use gridswarm::grid::Grid;
+// The world's crate, for the transports and for deriving a setup from a
+// scenario (`derived`) only; everything the robot runs is gridswarm_robot.
 use gridswarm::ipc::{self, names};
 use gridswarm::net::{NetConfig, Security, ZenohAgent};
 use gridswarm::outcome::RunConfig;
-use gridswarm::params::{Order, Situation, SlotRule};
-use gridswarm::peer::Peer;
-use gridswarm::policy::Policy;
-use gridswarm::protocol::{self, Frame, Limits};
 use gridswarm::scenario::Scenario;
-use gridswarm::setup::{RobotSetup, SetupFile};
-use gridswarm::sim::{Note, Output};
 use gridswarm::transport::{AgentTransport, Transport};
-use gridswarm::wire::{
+use gridswarm_robot::agreement::{Agreement, ScenarioId};
+use gridswarm_robot::choice::registry::{self, Factory};
+use gridswarm_robot::grid::Grid;
+use gridswarm_robot::io::{Note, Output};
+use gridswarm_robot::params::{Order, Situation, SlotRule};
+use gridswarm_robot::peer::Peer;
+use gridswarm_robot::policy::Policy;
+use gridswarm_robot::protocol::{self, Frame, Limits};
+use gridswarm_robot::setup::{RobotSetup, SetupFile};
+use gridswarm_robot::wire::{
     self, AgentOutput, Assembler, Bytes, Hello, ToAgent, ToWorld, Verdict, Wake, WireLimits, WireSend, HANDSHAKE,
 };
 use iceoryx2::prelude::*;
@@ -338,7 +340,7 @@ fn security_of(args: &Args) -> Result<Security, String> {
 fn serve(args: &Args, setup: &RobotSetup, agreement: &Agreement, link: &dyn AgentTransport) -> Result<Exit, String> {
     let grid: Grid = setup.grid();
     // This robot's maps and the maps it decodes read one table of edge masks.
-    let _masks = gridswarm::map::tiles::SharedMasks::new(grid.len());
+    let _masks = gridswarm_robot::map::tiles::SharedMasks::new(grid.len());
     let robot = setup.id as usize;
     let mut agent = Agent {
         peer: Peer::new(&grid, setup.peer_config()),
@@ -471,7 +473,7 @@ pub struct Overrides {
 }
 
 /// The setup the orchestrator writes for robot `robot` of a run of
-/// `scenario` (its `RobotSetup::new` of the scenario's world, after the
+/// `scenario` (its `RunConfig::robot_setup` of the scenario's world, after the
 /// run's situation and retries): what an agent started by hand holds.
 pub fn derived_setup(
     scenario: &str,
@@ -518,7 +520,7 @@ pub fn derived(
     }
     let world = sc.world();
     let agreement = Agreement::new(key, id, seed, policy, sc.situation, world.params);
-    Ok((RobotSetup::new(&world, &RunConfig::new(policy, seed, sc.situation), robot), agreement))
+    Ok((RunConfig::new(policy, seed, sc.situation).robot_setup(&world, robot), agreement))
 }
 
 /// The setup and agreement from `--setup`, or derived from the scenario.

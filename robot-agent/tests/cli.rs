@@ -9,7 +9,7 @@ use gridswarm::outcome::RunConfig;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
 use gridswarm::scenario::Scenario;
-use gridswarm::setup::{self, RobotSetup};
+use gridswarm::setup;
 
 fn agent() -> Command {
     Command::new(env!("CARGO_BIN_EXE_robot-agent"))
@@ -33,7 +33,7 @@ fn setup_file(name: &str, text: Option<&str>) -> SetupFile {
             let world = sc.world();
             let cfg = RunConfig::new(Policy::Repulsive, 1, Situation::Two);
             let agreement = Agreement::new("k", ScenarioId::of(&sc), 1, cfg.policy, cfg.situation, world.params);
-            serde_json::to_string(&setup::SetupFile { setup: RobotSetup::new(&world, &cfg, 0), agreement }).unwrap()
+            serde_json::to_string(&setup::SetupFile { setup: cfg.robot_setup(&world, 0), agreement }).unwrap()
         }
     };
     std::fs::write(&path, body).unwrap();

@@ -7,7 +7,6 @@ use std::process::Command;
 
 use gridswarm::params::{Order, Situation, SlotRule};
 use gridswarm::policy::Policy;
-use gridswarm::setup::RobotSetup;
 use gridswarm_orchestrator::run::{self, RunOptions};
 use robot_agent::Overrides;
 
@@ -29,7 +28,7 @@ fn a_derived_setup_is_the_one_the_orchestrator_writes() {
         o.order = order;
         let retries = Overrides { retries, slot, order };
         let plan = run::plan(&o).unwrap();
-        let written = RobotSetup::new(&plan.world, &plan.cfg, robot);
+        let written = plan.cfg.robot_setup(&plan.world, robot);
         let sit = if situation == Situation::One { 1 } else { 2 };
         let derived = robot_agent::derived_setup(scenario, robot, 41, policy.name(), Some(sit), retries).unwrap();
         assert_eq!(derived, written, "{scenario} {policy} robot {robot}");

@@ -14,7 +14,6 @@ use crate::outcome::{RunConfig, RunResult};
 use crate::peer::Peer;
 use crate::policy::Policy;
 use crate::protocol::Frame;
-use crate::setup::RobotSetup;
 use crate::sim::watch::Watch;
 use crate::sim::{Delivery, Kernel, Output, Robots, Transmit, WakeCall};
 use crate::world::World;
@@ -99,7 +98,7 @@ impl<'g> Local<'g> {
     /// caller ([`SharedMasks`]): they are physics.
     fn new(world: &'g World, starts: &[VertexId], cfg: &RunConfig) -> Self {
         let peers =
-            (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
+            (0..starts.len()).map(|k| Peer::new(&world.grid, cfg.robot_setup(world, k).peer_config())).collect();
         Local { peers, out: Output::default(), frames: Vec::new() }
     }
 }

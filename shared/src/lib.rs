@@ -6,20 +6,20 @@
 //! the robot's radio protocol on top of it, both with no I/O; [`sim`] is
 //! the world (clock, radio medium, bodies, faults); [`engine`] runs robots
 //! in-process. See ARCHITECTURE.md.
+//!
+//! The robot's modules are the crate `gridswarm_robot`, which knows no
+//! world; they are re-exported here under their old names.
 
-pub mod agreement;
+pub use gridswarm_robot::{
+    agreement, bitset, choice, geometry, grid, lattice, map, params, peer, policy, protocol, rng, robot, setup, wire,
+};
+
 pub mod assumptions;
-pub mod bitset;
-pub mod choice;
 pub mod engine;
-pub mod geometry;
-pub mod grid;
 /// The distributed engine's shared pieces (iceoryx2 config, names, cleanup).
 #[cfg(feature = "ipc")]
 pub mod ipc;
-pub mod lattice;
 pub mod lfp;
-pub mod map;
 pub mod near;
 #[cfg(feature = "zenoh")]
 pub mod net;
@@ -27,17 +27,9 @@ pub mod net;
 pub mod nofile;
 pub mod oracle;
 pub mod outcome;
-pub mod params;
-pub mod peer;
-pub mod policy;
-pub mod protocol;
 pub mod referee;
-pub mod rng;
-pub mod robot;
 pub mod scenario;
-pub mod setup;
 pub mod sim;
 pub mod transport;
 pub mod vopr;
-pub mod wire;
 pub mod world;

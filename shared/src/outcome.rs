@@ -6,7 +6,9 @@ use crate::geometry::Point;
 use crate::lattice::Coord;
 use crate::params::Situation;
 use crate::policy::Policy;
+use crate::setup::RobotSetup;
 use crate::sim::{FaultKind, ProtocolStats, Radio};
+use crate::world::World;
 
 /// One run's settings beyond the world and the start vertices.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -43,6 +45,24 @@ impl RunConfig {
     /// Whether the run has faults or an imperfect radio.
     pub fn is_faulty(&self) -> bool {
         !self.faults.is_empty() || !self.radio.is_perfect()
+    }
+
+    /// What robot `id` of this run on `world` holds before it starts: the
+    /// world's frame and parameters, and in situation 1 the number of
+    /// targets, nothing else of it.
+    pub fn robot_setup(&self, world: &World, id: usize) -> RobotSetup {
+        let (lo, hi) = world.area.bounding_box();
+        RobotSetup {
+            id: id as crate::map::RobotId,
+            lattice: world.grid.lattice.kind,
+            lo: [lo.x, lo.y],
+            hi: [hi.x, hi.y],
+            params: world.params,
+            policy: self.policy,
+            situation: self.situation,
+            targets_total: if self.situation == Situation::One { world.targets.len() } else { 0 },
+            seed: self.seed,
+        }
     }
 
     /// Robots the faults crash or freeze.
@@ -97,4 +117,26 @@ pub struct RunResult {
     /// The protocol's and the radio's counts (grid policies).
     #[serde(default)]
     pub protocol: ProtocolStats,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+
+    #[test]
+    fn the_robots_grid_is_the_worlds() {
+        let sc = Scenario::builtin("paper").unwrap();
+        let world = sc.world();
+        let cfg = RunConfig::new(Policy::Repulsive, 3, Situation::Two);
+        let s = cfg.robot_setup(&world, 2);
+        let g = s.grid();
+        assert_eq!(g.len(), world.grid.len());
+        for v in 0..g.len() as u32 {
+            assert_eq!(g.coord(v), world.grid.coord(v));
+        }
+        assert_eq!(s.targets_total, 0, "situation 2: unknown");
+        let back: RobotSetup = serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
+        assert_eq!(back, s);
+    }
 }

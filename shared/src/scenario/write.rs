@@ -101,3 +101,30 @@ impl Scenario {
         }
     }
 }
+
+/// A run's agreement names a scenario by its canonical text
+/// (`agreement::ScenarioId::of`).
+impl crate::agreement::Named for Scenario {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn canonical(&self) -> String {
+        self.to_toml("")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::agreement::ScenarioId;
+    use crate::scenario::Scenario;
+
+    #[test]
+    fn a_scenario_hashes_alike_when_reread() {
+        let sc = Scenario::builtin("paper").unwrap();
+        let again = Scenario::parse(&sc.to_toml("a comment"), "copy.toml").unwrap();
+        assert_eq!(ScenarioId::of(&again), ScenarioId::of(&sc), "comments and file name aside");
+        assert_eq!(ScenarioId::of(&sc).sha3_256.len(), 64);
+        assert_ne!(ScenarioId::of(&Scenario::builtin("open").unwrap()).sha3_256, ScenarioId::of(&sc).sha3_256);
+    }
+}

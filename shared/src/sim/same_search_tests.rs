@@ -14,7 +14,6 @@ use super::{Delivery, Header, Kernel, Listen, Output, Robots, Transmit, WakeCall
 use crate::outcome::RunResult;
 use crate::peer::Peer;
 use crate::protocol::{Frame, KIND_ACK, KIND_COMMIT};
-use crate::setup::RobotSetup;
 use crate::vopr;
 
 thread_local! {
@@ -66,8 +65,7 @@ fn run(case: &vopr::Case, unfiltered: bool, whole: bool) -> RunResult {
     let (w, starts) = WORLDS.with(|worlds| worlds.of(case));
     let world = &w.1;
     let cfg = &case.config;
-    let peers =
-        (0..starts.len()).map(|k| Peer::new(&world.grid, RobotSetup::new(world, cfg, k).peer_config())).collect();
+    let peers = (0..starts.len()).map(|k| Peer::new(&world.grid, cfg.robot_setup(world, k).peer_config())).collect();
     let mut robots = Plain { peers, out: Output::default(), unfiltered, whole };
     Kernel::new(world, &starts, cfg).run(&mut robots)
 }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use gridswarm::agreement::Agreement;
 use gridswarm::ipc::{self, RunFile};
 use gridswarm::outcome::RunConfig;
-use gridswarm::setup::{RobotSetup, SetupFile};
+use gridswarm::setup::SetupFile;
 use gridswarm::world::World;
 
 use crate::error::{Error, Result};
@@ -55,7 +55,7 @@ impl RunFiles {
     pub fn write(&self, run: &RunFile, world: &World, cfg: &RunConfig, agreement: &Agreement) -> Result<()> {
         write_json(&self.run_file(), run)?;
         for k in 0..run.robots {
-            let file = SetupFile { setup: RobotSetup::new(world, cfg, k), agreement: agreement.clone() };
+            let file = SetupFile { setup: cfg.robot_setup(world, k), agreement: agreement.clone() };
             write_json(&self.setup(k), &file)?;
         }
         Ok(())

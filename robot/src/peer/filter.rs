@@ -3,9 +3,9 @@
 //! would not have changed anything it did.
 
 use super::Peer;
+use crate::io::Listen;
 use crate::protocol::{FLOOD_OTHER, KIND_ACK, KIND_COMMIT, KIND_FLOOD, KIND_WAIT};
 use crate::robot::Robot;
-use crate::sim::Listen;
 
 impl Peer<'_> {
     /// Which frames should wake it while it chooses and waits for answers.

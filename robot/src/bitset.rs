@@ -28,11 +28,13 @@ impl Bitset {
         Bitset { words }
     }
 
+    #[inline]
     pub fn words(&self) -> &[u64] {
         &self.words
     }
 
     /// Number of bits it can hold (a multiple of 64).
+    #[inline]
     pub fn capacity(&self) -> usize {
         self.words.len() * 64
     }
@@ -84,18 +86,22 @@ impl Bitset {
     }
 
     /// Whether some bit is set here and not in `other`.
+    #[inline]
     pub fn any_not_in(&self, other: &Bitset) -> bool {
         self.words.iter().zip(&other.words).any(|(a, b)| a & !b != 0)
     }
 
+    #[inline]
     pub fn count(&self) -> usize {
         self.words.iter().map(|w| w.count_ones() as usize).sum()
     }
 
+    #[inline]
     pub fn is_subset_of(&self, other: &Bitset) -> bool {
         !self.any_not_in(other)
     }
 
+    #[inline]
     pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
         ones(&self.words)
     }
@@ -107,6 +113,7 @@ impl Bitset {
 
 /// The indices of the set bits of `words`, bit `k % 64` of word `k / 64`,
 /// in increasing order.
+#[inline]
 pub fn ones(words: &[u64]) -> impl Iterator<Item = usize> + '_ {
     words.iter().enumerate().flat_map(|(k, &w)| {
         let mut w = w;

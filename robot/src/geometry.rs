@@ -7,6 +7,7 @@ pub type Point = nalgebra::Point2<f64>;
 pub type Vector = nalgebra::Vector2<f64>;
 
 /// Distance from `p` to the segment `[a, b]`.
+#[inline]
 pub fn point_segment_distance(p: Point, a: Point, b: Point) -> f64 {
     let ab = b - a;
     let len2 = ab.norm_squared();
@@ -17,11 +18,13 @@ pub fn point_segment_distance(p: Point, a: Point, b: Point) -> f64 {
     (p - (a + ab * t)).norm()
 }
 
+#[inline]
 fn cross(u: Vector, v: Vector) -> f64 {
     u.x * v.y - u.y * v.x
 }
 
 /// Whether the closed segments `[a, b]` and `[c, d]` share a point.
+#[inline]
 pub fn segments_intersect(a: Point, b: Point, c: Point, d: Point) -> bool {
     let d1 = cross(b - a, c - a);
     let d2 = cross(b - a, d - a);
@@ -37,6 +40,7 @@ pub fn segments_intersect(a: Point, b: Point, c: Point, d: Point) -> bool {
 }
 
 /// Distance between the segments `[a, b]` and `[c, d]` (0 when they meet).
+#[inline]
 pub fn segment_segment_distance(a: Point, b: Point, c: Point, d: Point) -> f64 {
     if segments_intersect(a, b, c, d) {
         return 0.0;
@@ -60,6 +64,7 @@ impl Polygon {
     }
 
     /// The polygon's edges as point pairs, closing back to the first corner.
+    #[inline]
     pub fn edges(&self) -> impl Iterator<Item = (Point, Point)> + '_ {
         let n = self.points.len();
         (0..n).map(move |k| (self.points[k], self.points[(k + 1) % n]))
@@ -67,14 +72,17 @@ impl Polygon {
 
     /// Even-odd point-in-polygon test; points on the boundary may go either way,
     /// which never matters because clearance tests follow.
+    #[inline]
     pub fn contains(&self, p: Point) -> bool {
         self.edges().filter(|&(a, b)| crosses_ray(p, a, b)).count() % 2 == 1
     }
 
+    #[inline]
     pub fn boundary_distance(&self, p: Point) -> f64 {
         self.edges().map(|(a, b)| point_segment_distance(p, a, b)).fold(f64::INFINITY, f64::min)
     }
 
+    #[inline]
     pub fn boundary_segment_distance(&self, p: Point, q: Point) -> f64 {
         self.edges().map(|(a, b)| segment_segment_distance(p, q, a, b)).fold(f64::INFINITY, f64::min)
     }
@@ -124,6 +132,7 @@ pub enum Shape {
 }
 
 impl Shape {
+    #[inline]
     pub fn contains(&self, p: Point) -> bool {
         match self {
             Shape::Polygon(poly) => poly.contains(p),
@@ -132,6 +141,7 @@ impl Shape {
     }
 
     /// Distance from `p` to the shape (0 inside).
+    #[inline]
     pub fn distance(&self, p: Point) -> f64 {
         match self {
             Shape::Polygon(poly) => {
@@ -146,6 +156,7 @@ impl Shape {
     }
 
     /// Distance from the segment `[p, q]` to the shape (0 when they meet).
+    #[inline]
     pub fn segment_distance(&self, p: Point, q: Point) -> f64 {
         match self {
             Shape::Polygon(poly) => {
@@ -172,6 +183,7 @@ impl Shape {
 
 /// Whether the edge `a -> b` crosses the ray from `p` towards +x: the
 /// even-odd test counts these. An edge whose y-span misses `p.y` never does.
+#[inline]
 pub fn crosses_ray(p: Point, a: Point, b: Point) -> bool {
     (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)
 }
@@ -179,6 +191,7 @@ pub fn crosses_ray(p: Point, a: Point, b: Point) -> bool {
 /// Smallest distance between two moving points that start at `p0`, `q0` and
 /// end at `p1`, `q1`, moving along straight lines with the same time profile
 /// (step 6): their difference is linear in one parameter `s ∈ [0, 1]`.
+#[inline]
 pub fn swept_min_distance(p0: Point, p1: Point, q0: Point, q1: Point) -> f64 {
     let d0 = q0 - p0;
     let dv = (q1 - q0) - (p1 - p0);

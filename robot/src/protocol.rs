@@ -12,8 +12,8 @@ use std::rc::Rc;
 use serde::{Deserialize, Serialize};
 
 use crate::grid::VertexId;
+use crate::io::{Framed, Header, Listen};
 use crate::map::{Map, RobotId};
-use crate::sim::{Framed, Header, Listen};
 
 /// Robot-to-robot frames, all broadcast to whoever is in radio range. Every
 /// one carries its round, so frames of another round can be told apart and dropped.
@@ -46,6 +46,7 @@ pub enum Frame {
 }
 
 impl Frame {
+    #[inline]
     pub fn round(&self) -> u32 {
         match self {
             Frame::Map { round, .. }
@@ -72,6 +73,7 @@ impl Frame {
     /// and round, and a tag for receive filters: an ack's addressees (bit
     /// `id % 64` each, [`Listen::bit`]), a flood's targets (bit `t` for
     /// `t < 63`; bit 63 for a stop or any other target), 0 otherwise.
+    #[inline]
     pub fn header(&self) -> Header {
         let (kind, tag) = match self {
             Frame::Map { stop, .. } => (KIND_MAP, if *stop { MAP_STOP } else { 0 }),
@@ -124,16 +126,19 @@ pub fn header_of(bytes: &[u8]) -> Option<Header> {
 
 impl Frame {
     /// Whether it carries the step-8 stop that ends the search.
+    #[inline]
     pub fn carries_stop(&self) -> bool {
         matches!(self, Frame::Map { stop: true, .. } | Frame::Flood { stop: true, .. })
     }
 }
 
 impl Framed for Rc<Frame> {
+    #[inline]
     fn header(&self) -> Option<Header> {
         Some(Frame::header(self))
     }
 
+    #[inline]
     fn carries_stop(&self) -> bool {
         Frame::carries_stop(self)
     }

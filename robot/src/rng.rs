@@ -6,6 +6,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 /// SplitMix64 finaliser: spreads nearby inputs over the whole range.
+#[inline]
 pub fn mix(mut z: u64) -> u64 {
     z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -19,6 +20,7 @@ pub fn robot_rng(seed: u64, id: u16) -> ChaCha8Rng {
 }
 
 /// A seed derived from a parent seed and a label, e.g. run `k` of a sweep.
+#[inline]
 pub fn derive(seed: u64, label: u64) -> u64 {
     mix(mix(seed) ^ mix(label.wrapping_add(0xA076_1D64_78BD_642F)))
 }

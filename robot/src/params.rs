@@ -238,6 +238,7 @@ impl Params {
     }
 
     /// One full move: a rotation and a translation (the RU penalty per collision).
+    #[inline]
     pub fn move_time(&self) -> f64 {
         self.t_rot + self.t_trans
     }

@@ -48,15 +48,18 @@ impl Grid {
         Grid { lattice, coords, positions, keys, adj, index }
     }
 
+    #[inline]
     pub fn len(&self) -> usize {
         self.coords.len()
     }
 
+    #[inline]
     pub fn is_empty(&self) -> bool {
         self.coords.is_empty()
     }
 
     /// How many adjacency slots this lattice uses (6, 4 or 3).
+    #[inline]
     pub fn degree(&self) -> usize {
         match self.lattice.kind {
             LatticeKind::Triangular => 6,
@@ -66,6 +69,7 @@ impl Grid {
     }
 
     /// The slot of the edge `v → adj[v][d]` seen from the other end.
+    #[inline]
     pub fn opposite(&self, d: usize) -> usize {
         match self.lattice.kind {
             LatticeKind::Triangular => (d + 3) % 6,
@@ -75,15 +79,18 @@ impl Grid {
         }
     }
 
+    #[inline]
     pub fn coord(&self, v: VertexId) -> Coord {
         self.coords[v as usize]
     }
 
+    #[inline]
     pub fn position(&self, v: VertexId) -> Point {
         self.positions[v as usize]
     }
 
     /// Exact priority key (step 4): higher key chooses first.
+    #[inline]
     pub fn priority_key(&self, v: VertexId) -> (i64, i64) {
         self.keys[v as usize]
     }
@@ -94,20 +101,24 @@ impl Grid {
     }
 
     /// Neighbour slots of `v`; only the first [`Grid::degree`] can be set.
+    #[inline]
     pub fn neighbors(&self, v: VertexId) -> &[VertexId; MAX_DEGREE] {
         &self.adj[v as usize]
     }
 
     /// The slot `d` with `adj[from][d] == to`, if `to` is adjacent.
+    #[inline]
     pub fn slot_of(&self, from: VertexId, to: VertexId) -> Option<usize> {
         self.adj[from as usize][..self.degree()].iter().position(|&n| n == to)
     }
 
+    #[inline]
     pub fn id_of(&self, c: Coord) -> Option<VertexId> {
         self.index.get(&c).copied()
     }
 
     /// The frame vertex nearest to `p`, if the nearest lattice vertex is in the frame.
+    #[inline]
     pub fn nearest(&self, p: Point) -> Option<VertexId> {
         self.id_of(self.lattice.nearest(p))
     }

@@ -19,8 +19,8 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 
 use crate::agreement::Agreement;
+use crate::io::{Listen, Motor, Note, Tick, Time};
 use crate::map::RobotId;
-use crate::sim::{Listen, Motor, Note, Tick, Time};
 
 /// Bytes, serialized as one postcard byte string (length and bytes, copied
 /// in one go) rather than element by element.
@@ -67,7 +67,7 @@ pub struct WireFrame {
     pub bytes: Bytes,
 }
 
-/// One wake-up of one robot ([`crate::sim::WakeCall`] with bytes for frames).
+/// One wake-up of one robot (`gridswarm::sim::WakeCall` with bytes for frames).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Wake {
     /// Answered by the [`AgentOutput`] with the same number.
@@ -101,7 +101,7 @@ pub struct Verdict {
 /// again by the world, never taken for an answer to a wake-up.
 pub const HANDSHAKE: u64 = 0;
 
-/// A frame to broadcast ([`crate::sim::Transmit`] with bytes).
+/// A frame to broadcast ([`crate::io::Transmit`] with bytes).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WireSend {
     pub bytes: Bytes,
@@ -109,7 +109,7 @@ pub struct WireSend {
     pub copies: u8,
 }
 
-/// A robot's answer to the [`Wake`] numbered `seq` ([`crate::sim::Output`]).
+/// A robot's answer to the [`Wake`] numbered `seq` ([`crate::io::Output`]).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct AgentOutput {
     pub seq: u64,
@@ -454,10 +454,10 @@ mod tests {
     }
 
     fn hello(robot: u32) -> ToWorld {
-        let sc = crate::scenario::Scenario::builtin("small").unwrap();
-        let id = crate::agreement::ScenarioId::of(&sc);
+        let id = crate::agreement::ScenarioId { name: "small".into(), sha3_256: "ab".repeat(32) };
         let policy = crate::policy::Policy::Repulsive;
-        let agreement = Agreement::new("k", id, 7, policy, crate::params::Situation::Two, sc.params);
+        let params = crate::params::Params::default();
+        let agreement = Agreement::new("k", id, 7, policy, crate::params::Situation::Two, params);
         ToWorld::Hello(Box::new(Hello { agreement, robot, pid: 77, host: "h".into(), nonce: 5 }))
     }
 

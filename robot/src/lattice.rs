@@ -84,6 +84,7 @@ impl Lattice {
     /// Whether `(i, j)` is a vertex of this lattice. The honeycomb is the
     /// triangular lattice of the same side with every third vertex (the
     /// hexagon centres, `i - j ≡ 0 mod 3`) removed.
+    #[inline]
     pub fn contains(&self, c: Coord) -> bool {
         match self.kind {
             LatticeKind::Hexagonal => (c.i - c.j).rem_euclid(3) != 0,
@@ -91,12 +92,14 @@ impl Lattice {
         }
     }
 
+    #[inline]
     pub fn position(&self, c: Coord) -> Point {
         self.position_of(c.i as f64, c.j as f64)
     }
 
     /// The position of real-valued lattice coordinates. Positions are linear
     /// in `(i, j)`, so a mean of positions is the position of the mean.
+    #[inline]
     pub fn position_of(&self, i: f64, j: f64) -> Point {
         match self.kind {
             LatticeKind::Square => Point::new(self.a * i, self.a * j),
@@ -108,6 +111,7 @@ impl Lattice {
 
     /// Exact key with the same order as the position's `(x, y)`: robot `j`
     /// has priority over robot `i` when `key(j) > key(i)` (step 4).
+    #[inline]
     pub fn priority_key(&self, c: Coord) -> (i64, i64) {
         match self.kind {
             LatticeKind::Square => (c.i as i64, c.j as i64),
@@ -140,6 +144,7 @@ impl Lattice {
 
     /// The neighbour offsets of the vertex `c` (for the honeycomb they depend
     /// on which of its two sublattices `c` is on).
+    #[inline]
     pub fn offsets(&self, c: Coord) -> &'static [(i32, i32)] {
         match self.kind {
             LatticeKind::Triangular => &TRI_DIRS,
@@ -157,6 +162,7 @@ impl Lattice {
     }
 
     /// The lattice coordinate whose position is nearest to `p`.
+    #[inline]
     pub fn nearest(&self, p: Point) -> Coord {
         let (x, y) = (p.x / self.a, p.y / self.a);
         let guess = match self.kind {

@@ -3,7 +3,8 @@
 //! bounding box), its parameters, its identity, algorithm and seed, and the
 //! number of targets in situation 1. Never obstacles, never target
 //! positions. The in-process engine and the robot-agent both build their
-//! robots from this, so both build the same robot.
+//! robots from this, so both build the same robot; the world's crate
+//! derives it from a run (`gridswarm::outcome::RunConfig::robot_setup`).
 
 use serde::{Deserialize, Serialize};
 
@@ -12,12 +13,10 @@ use crate::geometry::Point;
 use crate::grid::Grid;
 use crate::lattice::{Lattice, LatticeKind};
 use crate::map::RobotId;
-use crate::outcome::RunConfig;
 use crate::params::{Params, Situation};
 use crate::peer::PeerConfig;
 use crate::policy::Policy;
 use crate::robot::RobotConfig;
-use crate::world::World;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -45,22 +44,6 @@ pub struct SetupFile {
 }
 
 impl RobotSetup {
-    /// Robot `id` of a run on `world`.
-    pub fn new(world: &World, cfg: &RunConfig, id: usize) -> Self {
-        let (lo, hi) = world.area.bounding_box();
-        RobotSetup {
-            id: id as RobotId,
-            lattice: world.grid.lattice.kind,
-            lo: [lo.x, lo.y],
-            hi: [hi.x, hi.y],
-            params: world.params,
-            policy: cfg.policy,
-            situation: cfg.situation,
-            targets_total: if cfg.situation == Situation::One { world.targets.len() } else { 0 },
-            seed: cfg.seed,
-        }
-    }
-
     /// The grid frame, numbered as the world numbers it.
     pub fn grid(&self) -> Grid {
         Grid::new(
@@ -82,27 +65,5 @@ impl RobotSetup {
             order: self.params.order,
         };
         PeerConfig::new(rc, &self.params)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scenario::Scenario;
-
-    #[test]
-    fn the_robots_grid_is_the_worlds() {
-        let sc = Scenario::builtin("paper").unwrap();
-        let world = sc.world();
-        let cfg = RunConfig::new(Policy::Repulsive, 3, Situation::Two);
-        let s = RobotSetup::new(&world, &cfg, 2);
-        let g = s.grid();
-        assert_eq!(g.len(), world.grid.len());
-        for v in 0..g.len() as u32 {
-            assert_eq!(g.coord(v), world.grid.coord(v));
-        }
-        assert_eq!(s.targets_total, 0, "situation 2: unknown");
-        let back: RobotSetup = serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
-        assert_eq!(back, s);
     }
 }

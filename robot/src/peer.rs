@@ -42,12 +42,12 @@
 use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId};
+use crate::io::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
 use crate::map::{Map, RobotId};
 use crate::params::{Params, Situation, SlotRule};
 use crate::policy::Policy;
 use crate::protocol::Frame;
 use crate::robot::{Robot, RobotConfig, Sensing, Stop};
-use crate::sim::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
 
 mod filter;
 

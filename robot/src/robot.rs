@@ -717,21 +717,13 @@ impl<'g> Robot<'g> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Point, Polygon};
-    use crate::lattice::{Coord, LatticeKind};
-    use crate::params::Params;
-    use crate::world::World;
+    use crate::geometry::Point;
+    use crate::lattice::{Coord, Lattice, LatticeKind};
 
     #[test]
     fn vertices_cut_off_by_failed_robots_do_not_keep_the_search_going() {
-        let area = Polygon::new(vec![
-            Point::new(-5.0, -5.0),
-            Point::new(5.0, -5.0),
-            Point::new(5.0, 5.0),
-            Point::new(-5.0, 5.0),
-        ]);
-        let w = World::new(area, vec![], vec![], Params::default(), LatticeKind::Triangular);
-        let g = &w.grid;
+        let lattice = Lattice::new(LatticeKind::Triangular, 1.0);
+        let g = &Grid::new(lattice, Point::new(-5.0, -5.0), Point::new(5.0, 5.0));
         let v = g.id_of(Coord::new(0, 0)).unwrap();
         let cfg = RobotConfig::new(0, Policy::Repulsive, Situation::Two, 0, 0.3, 1);
         let mut r = Robot::new(g, cfg, v);
