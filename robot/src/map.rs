@@ -391,6 +391,12 @@ impl Map {
         self.open(n) >> grid.opposite(d) & 1 == 1
     }
 
+    /// Whether some robot sensed an open edge into `v` (so `v` is known
+    /// accessible, whether or not anyone stood on it).
+    pub fn reached(&self, grid: &Grid, v: VertexId) -> bool {
+        (0..grid.degree()).any(|d| grid.neighbors(v)[d] != crate::grid::NONE && self.edge_open(grid, v, d))
+    }
+
     /// Checks a map that came from elsewhere against the grid it claims to
     /// describe, so a malformed message cannot index out of bounds.
     /// `targets` is the largest number of target ids a map may hold.

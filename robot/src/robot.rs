@@ -263,7 +263,11 @@ impl<'g> Robot<'g> {
             if self.map.open(v) & SENSED == 0 {
                 dropped = true;
                 self.map.set_visited(v, false);
-                if new {
+                // Known only through the claim, unless a map merged since
+                // sensed an open edge to it: forgetting that would leave
+                // the frontier behind it closed, and rule (4) would stop
+                // the search on a map that ends at a wall nobody sensed.
+                if new && !self.map.reached(self.grid, v) {
                     self.map.set_known(v, false);
                 }
             }
@@ -752,5 +756,30 @@ mod tests {
         r.sense(4, &Sensing { open: 1, occupied: 0, targets: &[] });
         assert!(!r.map().is_failed(5));
         assert_eq!(r.stop_rule(), None);
+    }
+
+    #[test]
+    fn a_dropped_claim_keeps_what_a_merged_map_sensed() {
+        let lattice = Lattice::new(LatticeKind::Triangular, 1.0);
+        let g = &Grid::new(lattice, Point::new(-5.0, -5.0), Point::new(5.0, 5.0));
+        let v = g.id_of(Coord::new(0, 0)).unwrap();
+        let a = g.neighbors(v)[0];
+        let w = g.neighbors(a)[0];
+        let cfg = RobotConfig::new(0, Policy::Sequential, Situation::Two, 0, 0.3, 1);
+        let mut r = Robot::new(g, cfg, v);
+        r.sense(0, &Sensing { open: 1, occupied: 1, targets: &[] });
+        assert!(r.map().known(a) && !r.map().known(w));
+        // Robot 1, on `a`, claims `w`, which this robot has never heard of.
+        assert!(r.receive_choice(1, a, w));
+        assert!(r.map().visited(w) && r.map().known(w));
+        // A map comes in whose sender sensed at `a`, edge to `w` open.
+        let mut m = Map::new(g.len(), 0);
+        m.record_sensing(g, a, 1);
+        assert!(r.receive_map(2, g.neighbors(v)[3], &m, false));
+        // Robot 1 never went: the claim goes, but `w` stays known, unvisited.
+        r.sense(1, &Sensing { open: 1, occupied: 1, targets: &[] });
+        assert!(!r.map().visited(w));
+        assert!(r.map().known(w), "the merged map's sensing was forgotten with the claim");
+        assert!(r.map().has_unvisited());
     }
 }

@@ -201,3 +201,30 @@ fn a_map_later_than_the_window_by_its_jitter_stops_a_robot_stepping_blind() {
     let replay = "--algorithm sequential --seed 2774573506600385801 --situation 1 --delay 20.712:94.968";
     ends_on("small", 2, cfg, replay, &["stop"]);
 }
+
+#[test]
+fn a_dropped_claim_does_not_forget_what_a_merged_map_sensed() {
+    // Found by the soak at 300,000 cases. A robot heard a claim on a vertex
+    // it did not know, merged a map whose sender had sensed an open edge
+    // into it, and then dropped the claim (its chooser never moved there)
+    // and the vertex's "known" with it. Its map now ended at a wall nobody
+    // sensed; halted and resumed, it found nothing left to visit and ended
+    // the search `exhausted` with 6 of 9 targets found.
+    let us = |robot, round, offset, kind| Fault { robot, round, offset, kind };
+    let faults = vec![
+        us(26, 18, 80_054, FaultKind::Freeze),
+        us(26, 25, 1_043_099, FaultKind::Thaw),
+        us(22, 25, 1_457_486, FaultKind::Freeze),
+        us(22, 30, 23_836, FaultKind::Thaw),
+        us(19, 0, 1_368_783, FaultKind::Crash),
+        us(27, 4, 121_661, slow(2857)),
+        us(27, 7, 0, slow(0)),
+    ];
+    let mut cfg = config(Policy::Frontier, 482489375570700123, Situation::One, faults);
+    cfg.radio = Radio { delay: 161_762, jitter: 180_733, ..Radio::default() };
+    cfg.max_rounds = 2000;
+    let replay = "--algorithm frontier --seed 482489375570700123 --situation 1 --max-rounds 2000 \
+                  --delay 161.762:180.733 --freeze 26@18+0.080054:25+1.043099 --freeze 22@25+1.457486:30+0.023836 \
+                  --kill 19@0+1.368783 --slow 27@4+0.121661:2857 --slow 27@7:0";
+    completes(29, cfg, replay);
+}
