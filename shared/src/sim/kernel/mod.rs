@@ -147,8 +147,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
     pub fn new(world: &'w World, starts: &[VertexId], cfg: &'w RunConfig) -> Self {
         let n = starts.len();
         let p = &world.params;
-        let exchange = micros(p.t_exchange);
-        let wait = micros(p.t_wait);
+        let timing = crate::peer::Timing::from_params(p);
         // The protocol's own bound (the widest exchange a robot may choose, a
         // wait for choices, the choice, a wait for acknowledgements, a few
         // hops), with room for a robot slow by up to 4 t_wait: a late robot
@@ -157,10 +156,9 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         // than `t_wait` covers wait on while its robots say they wait
         // (`Frame::Wait`): a chain through the whole team, one choice and
         // one latency a link, stays inside the limit too.
-        let widest = exchange * (1 + crate::peer::MAX_WIDEN);
-        let link = micros(p.t_choice) + micros(p.t_hop) + cfg.radio.delay + cfg.radio.jitter;
-        let slot_limit = widest + 8 * wait + micros(p.t_choice) + 20 * micros(p.t_hop) + n as Time * link;
-        let fixed = crate::peer::Timing::from_params(p).decision;
+        let link = timing.choice + timing.hop + cfg.radio.delay + cfg.radio.jitter;
+        let slot_limit = timing.widest() + 8 * timing.wait + timing.choice + 20 * timing.hop + n as Time * link;
+        let (exchange, fixed) = (timing.exchange, timing.decision);
         let bots = (0..n)
             .map(|_| Bot {
                 body: Body::Running,
