@@ -11,7 +11,7 @@
 //! not end are left out and counted. Prints the ratios' quantiles, by
 //! scenario and overall, and the worst cases with their reproducers.
 use gridswarm::policy::Policy;
-use gridswarm::sim::{Fault, FaultKind, Radio};
+use gridswarm::sim::{FaultKind, Radio};
 use gridswarm::vopr::{self, Case, Worlds};
 
 /// One faulty run against its two twins.
@@ -51,7 +51,7 @@ fn main() {
             twin_endless += 1;
             continue;
         };
-        let survivors = case.robots - gone(&case.config.faults);
+        let survivors = case.robots - case.gone();
         let Some(survivors_twin) = fault_free(&worlds, &case, survivors) else {
             twin_endless += 1;
             continue;
@@ -78,24 +78,9 @@ fn main() {
     }
 }
 
-/// Robots that end the run not running: crashed, or frozen and not thawed.
-fn gone(faults: &[Fault]) -> usize {
-    let mut robots: Vec<usize> = faults.iter().map(|f| f.robot).collect();
-    robots.sort();
-    robots.dedup();
-    let thawed = |r: usize| {
-        let last = faults.iter().filter(|f| f.robot == r).max_by_key(|f| (f.round, f.offset));
-        last.is_some_and(|f| f.kind == FaultKind::Thaw)
-    };
-    robots.into_iter().filter(|&r| !thawed(r)).count()
-}
-
 /// The rounds of `case` without faults, with `robots` robots, if it ends.
 fn fault_free(worlds: &Worlds, case: &Case, robots: usize) -> Option<u32> {
-    let mut twin = case.clone();
-    twin.robots = robots;
-    twin.config.faults.clear();
-    let r = worlds.run(&twin);
+    let r = worlds.run(&case.twin(robots));
     (r.protocol.ended_by != "max_rounds").then_some(r.rounds)
 }
 

@@ -16,6 +16,11 @@
 //!   [`MAX_ROUNDS`] rounds except in rare cases the algorithms themselves
 //!   cannot end (see [`Violation::Endless`]), which the test counts;
 //! - every crash becomes known to each robot that waited on it;
+//! - point 3's round bound, over a sample: runs with crashes or freezes and
+//!   nothing else wrong ([`Case::measures_liveness`]) against their
+//!   survivors' twins ([`Case::twin`]), whose 95th percentile the test
+//!   holds to 1.5 (no bound holds of every run: a lone survivor can walk
+//!   visited vertices for a long time before it meets the news of a body);
 //! - under the fixed slot rule, no robot commands a move past a slot's end.
 //!
 //! Cases reach past the bounds the design states: frames later than the
@@ -191,6 +196,40 @@ impl Case {
             && r.delay + r.jitter + t.hop <= t.widest()
             && r.jitter <= t.choice
             && self.config.policy.collision_free()
+    }
+
+    /// Whether the case measures point 3's liveness goal: crashes or
+    /// freezes and nothing else wrong (no slow robot, no loss, frames
+    /// within the stated bound), an algorithm whose robots detect failures
+    /// (RU's are particles).
+    pub fn measures_liveness(&self) -> bool {
+        let c = &self.config;
+        let only_failures = c.faults.iter().all(|f| !matches!(f.kind, FaultKind::Slow(_)));
+        !c.faults.is_empty() && only_failures && self.in_bound()
+    }
+
+    /// Robots that end the run not running: crashed, or frozen and not thawed.
+    pub fn gone(&self) -> usize {
+        let faults = &self.config.faults;
+        let mut robots: Vec<usize> = faults.iter().map(|f| f.robot).collect();
+        robots.sort();
+        robots.dedup();
+        let thawed = |r: usize| {
+            let last = faults.iter().filter(|f| f.robot == r).max_by_key(|f| (f.round, f.offset));
+            last.is_some_and(|f| f.kind == FaultKind::Thaw)
+        };
+        robots.into_iter().filter(|&r| !thawed(r)).count()
+    }
+
+    /// This case without faults and with `robots` robots: its fault-free
+    /// twin (`self.robots`), or its survivors' twin (`self.robots -
+    /// self.gone()`: a team cut from 4 robots to 1 cannot search as fast as
+    /// 4, whatever the protocol does).
+    pub fn twin(&self, robots: usize) -> Case {
+        let mut twin = self.clone();
+        twin.robots = robots;
+        twin.config.faults.clear();
+        twin
     }
 
     /// The `gridswarm simulate` command that replays this case.

@@ -25,6 +25,16 @@ const ENDLESS_PER_10K: u64 = 1;
 /// This bound only keeps the rate from growing. Measured: 2,286 of 68,849
 /// (3.3%) at 100,000 cases, seed 1 (5.4% before survivors' steps).
 const ENDLESS_BEYOND_PER_10K: u64 = 450;
+/// Point 3's round bound: among cases with crashes or freezes and nothing
+/// else wrong ([`vopr::Case::measures_liveness`]), one in this many also
+/// runs its survivors' twin (fault-free, only the robots left running).
+const LIVENESS_SAMPLE: u64 = 8;
+/// The 95th percentile of a sampled run's rounds over its survivors'
+/// twin's may not pass this (issue 21's goal: 1.5).
+const LIVENESS_P95: f64 = 1.5;
+/// Fewer samples than this give too loose a percentile to hold to the goal
+/// (a short run of the test prints it only).
+const LIVENESS_MIN_SAMPLES: usize = 500;
 
 fn env(name: &str, default: u64) -> u64 {
     std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
@@ -40,6 +50,8 @@ struct Tally {
     /// Endless cases, and whether each is one of those the design bounds.
     endless: Mutex<Vec<(bool, String)>>,
     bounded: AtomicU64,
+    /// Sampled runs' rounds over their survivors' twins', with their reproducers.
+    liveness: Mutex<Vec<(f64, String)>>,
 }
 
 impl Tally {
@@ -87,6 +99,17 @@ fn faulty_runs_never_collide_always_end_and_detect_every_crash() {
                 let r = worlds.run(&case);
                 let suspect_rounds = worlds.world(case.scenario, case.slot, case.order).1.params.suspect_rounds;
                 tally.record(i, seed, &case, &r, suspect_rounds);
+                if i % LIVENESS_SAMPLE == 0 && case.measures_liveness() {
+                    let twin = worlds.run(&case.twin(case.robots - case.gone()));
+                    if twin.protocol.ended_by != "max_rounds" {
+                        let ratio = r.rounds as f64 / twin.rounds.max(1) as f64;
+                        tally
+                            .liveness
+                            .lock()
+                            .unwrap()
+                            .push((ratio, format!("case {i} (seed {seed}): {}", case.command())));
+                    }
+                }
             });
         }
     });
@@ -109,6 +132,7 @@ fn faulty_runs_never_collide_always_end_and_detect_every_crash() {
     for e in strict.iter().chain(beyond.iter().take(20)) {
         println!("  {}", e.1);
     }
+    let (p95, samples) = liveness(tally.liveness.into_inner().unwrap());
     let f = tally.failures.into_inner().unwrap();
     let broken = tally.broken.into_inner().unwrap();
     assert!(f.is_empty(), "failing cases {broken:?}, the first {}:\n{}", f.len(), f.join("\n"));
@@ -123,6 +147,33 @@ fn faulty_runs_never_collide_always_end_and_detect_every_crash() {
         beyond.len(),
         runs - bounded_runs
     );
+    assert!(
+        samples < LIVENESS_MIN_SAMPLES || p95 <= LIVENESS_P95,
+        "rounds over the survivors' twin's: p95 {p95:.2} of {samples} sampled runs, more than {LIVENESS_P95}"
+    );
+}
+
+/// Prints the sampled runs' rounds over their survivors' twins' (quantiles
+/// and the worst cases) and returns the 95th percentile and their number.
+fn liveness(mut v: Vec<(f64, String)>) -> (f64, usize) {
+    if v.is_empty() {
+        return (0.0, 0);
+    }
+    v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let q = |p: f64| v[((v.len() as f64 - 1.0) * p).round() as usize].0;
+    println!(
+        "rounds over the survivors' twin's, {} sampled runs: median {:.2}, p90 {:.2}, p95 {:.2}, p99 {:.2}, max {:.2}",
+        v.len(),
+        q(0.5),
+        q(0.9),
+        q(0.95),
+        q(0.99),
+        q(1.0)
+    );
+    for (ratio, case) in v.iter().rev().take(3) {
+        println!("  {ratio:.1}x: {case}");
+    }
+    (q(0.95), v.len())
 }
 
 /// The cases the old test ran (robots slow by at most 0.8 s), whose
