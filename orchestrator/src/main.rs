@@ -202,6 +202,11 @@ enum Command {
     /// an authority, the world's, one per robot (README: "Running on
     /// several machines").
     Credentials(gridswarm_orchestrator::cli::credentials::CredentialsArgs),
+    /// Write one robot's setup file for a robot-agent started by hand on another host
+    /// (`robot-agent --setup FILE`): its grid frame, parameters and number, and the run's
+    /// agreement, exactly as `run` writes them for the agents it starts (README: "Running on
+    /// several machines").
+    Setup(gridswarm_orchestrator::cli::setup::SetupArgs),
     /// Write a scenario (built-in, TOML file, map or random:SEED,...) as a scenario file
     /// (--format toml) or as a ROS map_server map (--format yaml: NAME.yaml, NAME.pgm and
     /// NAME.gridswarm.toml with the targets, starts and parameters); lists the files written.
@@ -602,6 +607,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             return Ok(finished(complete));
         }
         Command::Credentials(args) => emit(&gridswarm_orchestrator::cli::credentials::run(&args)?),
+        Command::Setup(args) => emit(&gridswarm_orchestrator::cli::setup::write(&args)?),
         Command::ExportMap { scenario, format, out, resolution } => {
             let opts = gridswarm_orchestrator::cli::export::ExportOptions { scenario, format, out, resolution };
             emit(&gridswarm_orchestrator::cli::export::export(&opts)?);

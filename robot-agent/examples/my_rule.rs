@@ -15,10 +15,10 @@
 
 use std::process::ExitCode;
 
-use gridswarm::choice::{self, ChoiceRule, Factory, RuleRng, View};
-use gridswarm::grid::VertexId;
 use gridswarm_orchestrator::faults::FaultPlan;
 use gridswarm_orchestrator::simulate::{simulate, SimulateOptions};
+use gridswarm_robot::choice::{self, ChoiceRule, Factory, RuleRng, View};
+use gridswarm_robot::grid::VertexId;
 
 struct Sweep;
 

@@ -23,11 +23,11 @@
 //! the world's reason, `robot-agent K: error: refused by the world: ...`,
 //! and exits 2; so it does if the world calls the run off later.
 //!
-//! Its setup comes from a file the orchestrator wrote (`--setup`), or,
-//! for an agent started by hand on another host, is derived on the spot
-//! from what the orchestrator derives it from: `--scenario`, `--seed`,
-//! `--robot` and the run's overrides ([`derived`]); like flashing
-//! firmware, and the scenario's world is dropped once the setup is made. Errors: one line `robot-agent K: error: ...`, exit status 1;
+//! Its setup comes from a file the orchestrator wrote (`--setup`): by
+//! `gridswarm run` for the agents it starts, by `gridswarm setup` for an
+//! agent started by hand on another host; like flashing firmware. It never
+//! reads a scenario: it links the robot's crate and a transport, not the
+//! world's crate. Errors: one line `robot-agent K: error: ...`, exit status 1;
 //! the orchestrator ends the run on them (a wake-up of a live world that
 //! reaches no one is one: the run would otherwise crawl on time-outs).
 //!
@@ -46,18 +46,10 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
-// The world's crate, for the transports and for deriving a setup from a
-// scenario (`derived`) only; everything the robot runs is gridswarm_robot.
-use gridswarm::ipc::{self, names};
-use gridswarm::net::{NetConfig, Security, ZenohAgent};
-use gridswarm::outcome::RunConfig;
-use gridswarm::scenario::Scenario;
-use gridswarm::transport::{AgentTransport, Transport};
-use gridswarm_robot::agreement::{Agreement, ScenarioId};
+use gridswarm_robot::agreement::Agreement;
 use gridswarm_robot::choice::registry::{self, Factory};
 use gridswarm_robot::grid::Grid;
 use gridswarm_robot::io::{Note, Output};
-use gridswarm_robot::params::{Order, Situation, SlotRule};
 use gridswarm_robot::peer::Peer;
 use gridswarm_robot::policy::Policy;
 use gridswarm_robot::protocol::{self, Frame, Limits};
@@ -65,6 +57,9 @@ use gridswarm_robot::setup::{RobotSetup, SetupFile};
 use gridswarm_robot::wire::{
     self, AgentOutput, Assembler, Bytes, Hello, ToAgent, ToWorld, Verdict, Wake, WireLimits, WireSend, HANDSHAKE,
 };
+use gridswarm_transport::ipc::{self, names};
+use gridswarm_transport::net::{NetConfig, Security, ZenohAgent};
+use gridswarm_transport::{AgentTransport, Transport};
 use iceoryx2::prelude::*;
 
 #[derive(Parser, Debug)]
@@ -77,8 +72,9 @@ struct Args {
     /// run's key (the world's `--key`).
     #[arg(long, required_unless_present = "list_rules")]
     prefix: Option<String>,
-    /// This robot's setup (JSON, `RobotSetup`).
-    #[arg(long, required_unless_present_any = ["list_rules", "scenario"], conflicts_with = "scenario")]
+    /// This robot's setup and the run's agreement (JSON, a `SetupFile`:
+    /// `gridswarm setup` writes one for an agent started by hand).
+    #[arg(long, required_unless_present = "list_rules")]
     setup: Option<PathBuf>,
     /// The world-server's process id, checked when the world goes quiet
     /// (iceoryx2; over zenoh the world's liveliness token tells).
@@ -104,35 +100,11 @@ struct Args {
     #[arg(long, requires = "insecure")]
     insecure_network: bool,
     /// zenoh: a link silent this long is lost (the world's host gone), ms.
-    #[arg(long, default_value_t = gridswarm::net::DEFAULT_LEASE_MS, value_parser = clap::value_parser!(u64).range(100..))]
+    #[arg(long, default_value_t = gridswarm_transport::net::DEFAULT_LEASE_MS, value_parser = clap::value_parser!(u64).range(100..))]
     lease_ms: u64,
     /// zenoh: how long to wait for the world to appear, ms.
     #[arg(long, default_value_t = 60_000)]
     connect_timeout_ms: u64,
-    /// Without --setup: the scenario (built-in name or file) to derive the setup from.
-    #[arg(long, requires_all = ["robot", "seed"])]
-    scenario: Option<String>,
-    /// Without --setup: this robot's number.
-    #[arg(long)]
-    robot: Option<usize>,
-    /// Without --setup: the run's seed.
-    #[arg(long)]
-    seed: Option<u64>,
-    /// Without --setup: the grid algorithm.
-    #[arg(long, default_value = "repulsive")]
-    algorithm: String,
-    /// Without --setup: 1 (the number of targets is known) or 2 [default: the scenario's].
-    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
-    situation: Option<u8>,
-    /// Without --setup: overrides the scenario's retries.
-    #[arg(long)]
-    retries: Option<u32>,
-    /// Without --setup: overrides the scenario's slot rule (adaptive or fixed).
-    #[arg(long)]
-    slot: Option<SlotRule>,
-    /// Without --setup: overrides the scenario's choice order (paper or local).
-    #[arg(long)]
-    order: Option<Order>,
     /// Quiet time after which the world's liveness is checked, ms.
     #[arg(long, default_value_t = 500)]
     world_timeout_ms: u64,
@@ -463,76 +435,11 @@ impl AgentTransport for Iceoryx2 {
     }
 }
 
-/// The run's overrides of the scenario's parameters (`--retries`,
-/// `--slot`, `--order`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Overrides {
-    pub retries: Option<u32>,
-    pub slot: Option<SlotRule>,
-    pub order: Option<Order>,
-}
-
-/// The setup the orchestrator writes for robot `robot` of a run of
-/// `scenario` (its `RunConfig::robot_setup` of the scenario's world, after the
-/// run's situation and retries): what an agent started by hand holds.
-pub fn derived_setup(
-    scenario: &str,
-    robot: usize,
-    seed: u64,
-    algorithm: &str,
-    situation: Option<u8>,
-    overrides: Overrides,
-) -> Result<RobotSetup, String> {
-    derived("", scenario, robot, seed, algorithm, situation, overrides).map(|(setup, _)| setup)
-}
-
-/// [`derived_setup`], and the agreement of run `key` it presents.
-pub fn derived(
-    key: &str,
-    scenario: &str,
-    robot: usize,
-    seed: u64,
-    algorithm: &str,
-    situation: Option<u8>,
-    overrides: Overrides,
-) -> Result<(RobotSetup, Agreement), String> {
-    let policy: Policy = algorithm.parse()?;
-    registry::runnable(policy)?;
-    if robot >= ipc::MAX_ROBOTS {
-        return Err(format!("--robot {robot}: robots are numbered below {}", ipc::MAX_ROBOTS));
-    }
-    let mut sc = Scenario::load(scenario).map_err(|e| e.to_string())?;
-    let id = ScenarioId::of(&sc);
-    match situation {
-        Some(1) => sc.situation = Situation::One,
-        Some(2) => sc.situation = Situation::Two,
-        Some(n) => return Err(format!("--situation {n}: it is 1 or 2")),
-        None => {}
-    }
-    if let Some(r) = overrides.retries {
-        sc.params.retries = r;
-    }
-    if let Some(s) = overrides.slot {
-        sc.params.slot = s;
-    }
-    if let Some(o) = overrides.order {
-        sc.params.order = o;
-    }
-    let world = sc.world();
-    let agreement = Agreement::new(key, id, seed, policy, sc.situation, world.params);
-    Ok((RunConfig::new(policy, seed, sc.situation).robot_setup(&world, robot), agreement))
-}
-
-/// The setup and agreement from `--setup`, or derived from the scenario.
+/// The setup and agreement from `--setup`.
 fn setup_of(args: &Args) -> Result<(RobotSetup, Agreement), String> {
-    match (&args.setup, &args.scenario, args.robot, args.seed) {
-        (Some(path), _, _, _) => read_setup(path),
-        (None, Some(sc), Some(robot), Some(seed)) => {
-            let key = args.prefix.as_deref().unwrap_or_default();
-            let overrides = Overrides { retries: args.retries, slot: args.slot, order: args.order };
-            derived(key, sc, robot, seed, &args.algorithm, args.situation, overrides)
-        }
-        _ => Err("--setup, or --scenario with --robot and --seed, is needed".into()),
+    match &args.setup {
+        Some(path) => read_setup(path),
+        None => Err("--setup is needed".into()),
     }
 }
 

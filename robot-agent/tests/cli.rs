@@ -4,18 +4,15 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use gridswarm::agreement::{Agreement, ScenarioId};
-use gridswarm::outcome::RunConfig;
-use gridswarm::params::Situation;
-use gridswarm::policy::Policy;
-use gridswarm::scenario::Scenario;
-use gridswarm::setup;
+use gridswarm_orchestrator::cli::setup::{setup_file as setup_of, SetupArgs};
+use gridswarm_robot::policy::Policy;
 
 fn agent() -> Command {
     Command::new(env!("CARGO_BIN_EXE_robot-agent"))
 }
 
-/// A setup file of robot 0 on the paper scenario; removed on drop.
+/// A setup file of robot 0 of run `k` on the paper scenario, as `gridswarm
+/// setup` writes it (or `text`); removed on drop.
 struct SetupFile(PathBuf);
 
 impl Drop for SetupFile {
@@ -29,11 +26,20 @@ fn setup_file(name: &str, text: Option<&str>) -> SetupFile {
     let body = match text {
         Some(t) => t.to_string(),
         None => {
-            let sc = Scenario::builtin("paper").unwrap();
-            let world = sc.world();
-            let cfg = RunConfig::new(Policy::Repulsive, 1, Situation::Two);
-            let agreement = Agreement::new("k", ScenarioId::of(&sc), 1, cfg.policy, cfg.situation, world.params);
-            serde_json::to_string(&setup::SetupFile { setup: cfg.robot_setup(&world, 0), agreement }).unwrap()
+            let args = SetupArgs {
+                key: "k".into(),
+                robot: 0,
+                scenario: "paper".into(),
+                algorithm: Policy::Repulsive,
+                seed: 1,
+                situation: None,
+                retries: None,
+                slot: None,
+                order: None,
+                agent_bin: None,
+                out: path.clone(),
+            };
+            serde_json::to_string(&setup_of(&args).unwrap()).unwrap()
         }
     };
     std::fs::write(&path, body).unwrap();
@@ -57,8 +63,8 @@ fn without_a_world_it_fails_at_once() {
     assert!(err.starts_with("robot-agent 0: error: cannot open service"), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     // Its node left iceoryx2's small management file: what the run's owner removes.
-    gridswarm::ipc::cleanup_run(&prefix).unwrap();
-    assert!(gridswarm::ipc::run_files(&prefix).is_empty());
+    gridswarm_transport::ipc::cleanup_run(&prefix).unwrap();
+    assert!(gridswarm_transport::ipc::run_files(&prefix).is_empty());
 }
 
 #[test]
@@ -76,4 +82,52 @@ fn a_bad_setup_is_refused_in_one_line() {
         assert!(err.contains(want), "{name}: {err}");
         assert_eq!(err.lines().count(), 1, "{name}: {err}");
     }
+}
+
+#[test]
+fn without_a_setup_it_is_a_usage_error() {
+    // An agent never derives a setup from a scenario: `gridswarm setup` writes one.
+    for extra in [&[][..], &["--scenario", "paper", "--seed", "1", "--robot", "0"][..]] {
+        let out = agent().args(["--prefix", "k", "--transport", "zenoh"]).args(extra).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+}
+
+#[test]
+fn a_zenoh_agent_with_no_world_gives_up_in_one_line() {
+    let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
+    let setup = setup_file("zenoh-noworld", None);
+    let out = agent()
+        .args(["--transport", "zenoh", "--prefix", "k", "--insecure", "--connect", &format!("tcp/127.0.0.1:{port}")])
+        .args(["--connect-timeout-ms", "300", "--setup"])
+        .arg(&setup.0)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("robot-agent 0: error: "), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+#[test]
+fn over_zenoh_it_needs_credentials_or_insecure_and_plain_tcp_stays_on_loopback() {
+    let setup = setup_file("zenoh-flags", None);
+    let run = ["--transport", "zenoh", "--prefix", "k", "--setup", setup.0.to_str().unwrap()];
+    for (extra, words) in [
+        (&["--connect", "tls/10.0.0.1:7447"][..], "needs --credentials DIR"),
+        (&["--insecure", "--connect", "tcp/10.0.0.1:7447"][..], "not loopback"),
+        (&["--insecure"][..], "scouting"),
+        (&["--insecure", "--connect", "tls/127.0.0.1:7447"][..], "needs --credentials"),
+        (&["--credentials", "/nowhere", "--connect", "tcp/127.0.0.1:7447"][..], "plain TCP"),
+    ] {
+        let out = agent().args(run).args(extra).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(err.starts_with("robot-agent: error: ") && err.contains(words), "{extra:?}: {err}");
+    }
+    let out =
+        agent().args(run).args(["--credentials", "/nowhere", "--connect", "tls/127.0.0.1:7447"]).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("/nowhere/ca.pem") && err.contains("gridswarm credentials"), "{err}");
 }

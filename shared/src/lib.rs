@@ -14,22 +14,30 @@ pub use gridswarm_robot::{
     agreement, bitset, choice, geometry, grid, lattice, map, params, peer, policy, protocol, rng, robot, setup, wire,
 };
 
+/// The transports are the crate `gridswarm_transport` (feature `ipc`),
+/// re-exported under their old names; the run's files, which speak of the
+/// world, are [`run_file`]'s.
+#[cfg(feature = "ipc")]
+pub mod ipc {
+    pub use crate::run_file::{RunFile, RunReport};
+    pub use gridswarm_transport::ipc::*;
+}
+#[cfg(feature = "ipc")]
+pub use gridswarm_transport as transport;
+#[cfg(feature = "zenoh")]
+pub use gridswarm_transport::net;
+#[cfg(feature = "ipc")]
+pub use gridswarm_transport::nofile;
+
 pub mod assumptions;
 pub mod engine;
-/// The distributed engine's shared pieces (iceoryx2 config, names, cleanup).
-#[cfg(feature = "ipc")]
-pub mod ipc;
 pub mod lfp;
 pub mod near;
-#[cfg(feature = "zenoh")]
-pub mod net;
-#[cfg(feature = "ipc")]
-pub mod nofile;
 pub mod oracle;
 pub mod outcome;
 pub mod referee;
+pub mod run_file;
 pub mod scenario;
 pub mod sim;
-pub mod transport;
 pub mod vopr;
 pub mod world;

@@ -254,3 +254,14 @@ pub fn temp_files(prefix: &str) -> Vec<PathBuf> {
         .map(|d| d.flatten().filter(|e| e.file_name().to_string_lossy().starts_with(&head)).map(|e| e.path()).collect())
         .unwrap_or_default()
 }
+
+/// `gridswarm setup --key KEY RUN --robot K --out DIR/robot-K.json`: the
+/// setup file of an agent started by hand (README, "Running on several
+/// machines"); returns its path.
+pub fn setup_file(dir: &Path, key: &str, run: &[&str], robot: usize) -> PathBuf {
+    let out = dir.join(format!("robot-{robot}.json"));
+    let k = robot.to_string();
+    let args = [&["setup", "--key", key][..], run, &["--robot", &k, "--out", out.to_str().unwrap()]].concat();
+    ok(&args);
+    out
+}

@@ -26,6 +26,8 @@ struct World {
     child: Option<Child>,
     endpoint: String,
     key: String,
+    /// The agents' setup files (`gridswarm setup`).
+    setups: Scratch,
 }
 
 impl World {
@@ -44,19 +46,24 @@ impl World {
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        World { child: Some(child), endpoint, key: key.into() }
+        World { child: Some(child), endpoint, key: key.into(), setups: scratch(&format!("setups-{key}")) }
     }
 
-    /// `robot-agent --transport zenoh --prefix KEY --connect ENDPOINT --insecure ARGS`, started.
-    fn agent(&self, args: &[&str]) -> Child {
-        self.agent_with(args, &[])
+    /// Robot `robot`'s agent as README says to start one by hand: `gridswarm
+    /// setup --key KEY RUN --robot K --out FILE`, then `robot-agent
+    /// --transport zenoh --prefix KEY --connect ENDPOINT --insecure --setup
+    /// FILE`, started.
+    fn agent(&self, run: &[&str], robot: usize) -> Child {
+        self.agent_with(run, robot, &[])
     }
 
     /// [`World::agent`] with more variables in its environment.
-    fn agent_with(&self, args: &[&str], env: &[(&str, &str)]) -> Child {
+    fn agent_with(&self, run: &[&str], robot: usize, env: &[(&str, &str)]) -> Child {
+        let setup = setup_file(&self.setups, &self.key, run, robot);
         Command::new(bin_dir().join("robot-agent"))
             .args(["--transport", "zenoh", "--prefix", &self.key, "--connect", &self.endpoint, "--insecure"])
-            .args(args)
+            .arg("--setup")
+            .arg(setup)
             .envs(env.iter().copied())
             .stdin(Stdio::null())
             .stdout(Stdio::null())
@@ -140,8 +147,7 @@ fn agents_with_another_seed_are_refused_and_nothing_is_recorded() {
         "seed78",
         &["--scenario", "small", "--robots", "2", "--seed", "7", "--out", out_dir.to_str().unwrap()],
     );
-    let agents: Vec<Child> =
-        (0..2).map(|k| world.agent(&["--scenario", "small", "--seed", "8", "--robot", &k.to_string()])).collect();
+    let agents: Vec<Child> = (0..2).map(|k| world.agent(&["--scenario", "small", "--seed", "8"], k)).collect();
     for a in agents {
         // The first heard is refused for its seed, the other told the run is off, why included.
         refused(a, &["seed: world 7, agent 8"]);
@@ -155,8 +161,7 @@ fn agents_of_another_scenario_are_refused_at_their_hello_not_100_rounds_in() {
     let dir = scratch("agreement-scenario");
     let out_dir = dir.join("result");
     let world = World::start("paperopen", &["--robots", "2", "--seed", "7", "--out", out_dir.to_str().unwrap()]);
-    let agents: Vec<Child> =
-        (0..2).map(|k| world.agent(&["--scenario", "open", "--seed", "7", "--robot", &k.to_string()])).collect();
+    let agents: Vec<Child> = (0..2).map(|k| world.agent(&["--scenario", "open", "--seed", "7"], k)).collect();
     for a in agents {
         refused(a, &["scenario: world `paper` (sha3 ", "agent `open` (sha3 "]);
     }
@@ -169,7 +174,7 @@ fn a_robot_number_outside_the_team_is_refused_in_words_a_bash_user_reads() {
     let dir = scratch("agreement-outside");
     let out_dir = dir.join("result");
     let world = World::start("thirteen", &["--robots", "13", "--seed", "7", "--out", out_dir.to_str().unwrap()]);
-    let agent = world.agent(&["--scenario", "paper", "--seed", "7", "--robot", "13"]);
+    let agent = world.agent(&["--scenario", "paper", "--seed", "7"], 13);
     refused(agent, &["claims robot 13, which is not in this run: its 13 robot(s) are numbered 0 to 12"]);
     let err = run_refused(world, &out_dir, &["numbered 0 to 12"]);
     // The hint to start the agents says the range in words too.
@@ -187,7 +192,7 @@ fn a_second_claim_to_a_robot_number_is_refused() {
         "twice1",
         &["--scenario", "small", "--robots", "2", "--seed", "7", "--out", out_dir.to_str().unwrap()],
     );
-    let impostor = world.agent(&["--scenario", "small", "--seed", "9", "--robot", "1"]);
+    let impostor = world.agent(&["--scenario", "small", "--seed", "9"], 1);
     refused(impostor, &["robot-agent 1 (pid ", "seed: world 7, agent 9"]);
     run_refused(world, &out_dir, &["seed: world 7, agent 9"]);
 
@@ -200,10 +205,10 @@ fn a_second_claim_to_a_robot_number_is_refused() {
         "twice2",
         &["--scenario", "small", "--robots", "2", "--seed", "7", "--out", out_dir.to_str().unwrap()],
     );
-    let args = ["--scenario", "small", "--seed", "7", "--robot", "1"];
-    let impostor = world.agent(&args);
+    let args = ["--scenario", "small", "--seed", "7"];
+    let impostor = world.agent(&args, 1);
     std::thread::sleep(Duration::from_millis(500));
-    let real = world.agent(&args);
+    let real = world.agent(&args, 1);
     let (ids, agents) = ([impostor.id(), real.id()], [impostor, real]);
     let said: Vec<String> =
         agents.into_iter().map(|a| refused(a, &["claims robot 1, which is already taken by pid "])).collect();
@@ -218,18 +223,20 @@ fn a_second_claim_to_a_robot_number_is_refused() {
 #[test]
 fn an_agent_that_differs_is_refused_over_iceoryx2_as_over_zenoh() {
     let _s = serial();
-    // An agent program that ignores the setup file it is given and derives
-    // its own, for seed 8, as a hand-started agent would.
+    // An agent program that ignores the setup file it is given and takes
+    // one `gridswarm setup` writes for seed 8, as a hand-started agent might.
     let dir = scratch("agreement-iceoryx2");
     let agent = dir.join("agent");
     let real = bin_dir().join("robot-agent");
-    let real = real.to_str().unwrap();
+    let (real, gs) = (real.to_str().unwrap(), bin_dir().join("gridswarm"));
+    let (gs, setups) = (gs.to_str().unwrap(), dir.to_str().unwrap());
     fs::write(
         &agent,
         format!(
             "#!/bin/sh\nif [ \"$1\" = --list-rules ]; then exec {real} --list-rules; fi\n\
              k=$(basename \"$4\" .json); k=${{k#robot-}}\n\
-             exec {real} --prefix \"$2\" --world-pid \"$6\" --scenario small --seed 8 --robot \"$k\"\n"
+             {gs} setup --key \"$2\" --scenario small --seed 8 --robot \"$k\" --out {setups}/seed8-$k.json >/dev/null || exit 1\n\
+             exec {real} --prefix \"$2\" --world-pid \"$6\" --setup {setups}/seed8-$k.json\n"
         ),
     )
     .unwrap();
@@ -261,10 +268,10 @@ fn a_claim_once_the_run_is_under_way_is_refused_and_changes_nothing() {
     let run = ["--scenario", "small", "--seed", "7"];
     let world = World::start("late1", &[&run[..], &["--robots", "2", "--out", out_dir.to_str().unwrap()]].concat());
     // Robot 0 stops itself on the readings of slot 2: the world waits on it.
-    let hung = world.agent_with(&[&run[..], &["--robot", "0"]].concat(), &[("GRIDSWARM_AGENT_HANG", "0@2")]);
-    let real = world.agent(&[&run[..], &["--robot", "1"]].concat());
+    let hung = world.agent_with(&run, 0, &[("GRIDSWARM_AGENT_HANG", "0@2")]);
+    let real = world.agent(&run, 1);
     assert!(wait_until(GUARD, || stopped(hung.id())), "robot 0 stops in slot 2");
-    let impostor = world.agent(&[&run[..], &["--robot", "1"]].concat());
+    let impostor = world.agent(&run, 1);
     refused(impostor, &[&format!("already taken by pid {} on ", real.id()), "and the run is under way"]);
     // SAFETY: kill(2) on our own child.
     unsafe { libc::kill(hung.id() as i32, libc::SIGCONT) };

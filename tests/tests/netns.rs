@@ -3,9 +3,10 @@
 //! for the agents, started by hand as README's "Running on several
 //! machines" says: `gridswarm credentials`, then `gridswarm run
 //! --transport zenoh --listen tls/... --credentials DIR --remote-agents
-//! KEY` in the world's namespace, `robot-agent --transport zenoh --connect
-//! tls/... --credentials DIR --scenario ... --seed ... --robot K` in the
-//! agents' (no setup file: each derives its own). It checks that a run
+//! KEY` in the world's namespace, `gridswarm setup --key KEY --scenario ...
+//! --seed ... --robot K --out FILE` for each agent, and `robot-agent
+//! --transport zenoh --connect tls/... --credentials DIR --setup FILE` in
+//! the agents' namespaces. It checks that a run
 //! without faults is `simulate`'s byte for byte while a host without the
 //! run's credentials tries to join, read and disturb it (issue 23, item
 //! 2), and that a host lost mid-run (its link cut, its processes killed,
@@ -132,7 +133,8 @@ impl Hosts {
         keys
     }
 
-    /// Starts robot-agents 0..robots, each on its host, connecting to the
+    /// Starts robot-agents 0..robots, each on its host with its setup file
+    /// (`gridswarm setup`, written beside `keys`), connecting to the
     /// world's side of its host's link with the credentials in `keys`;
     /// returns their indices in `procs`.
     fn start_agents(
@@ -151,8 +153,8 @@ impl Hosts {
                     ["--transport", "zenoh", "--prefix", key, "--connect"].iter().map(|s| s.to_string()).collect();
                 args.push(format!("tls/{}:{PORT}", self.world_addr(k)));
                 args.extend(["--credentials".to_string(), keys.display().to_string()]);
-                args.extend(run.iter().map(|s| s.to_string()));
-                args.extend(["--robot".to_string(), r.to_string()]);
+                let setup = setup_file(keys.parent().unwrap(), key, run, r);
+                args.extend(["--setup".to_string(), setup.display().to_string()]);
                 let ns = self.agents[k - 1].clone();
                 self.spawn(&ns, &bin, &args, env, Stdio::null())
             })

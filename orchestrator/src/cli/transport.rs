@@ -19,8 +19,9 @@ pub struct TransportFlags {
     #[arg(long, value_name = "ENDPOINT")]
     pub listen: Vec<String>,
     /// zenoh: start the world only; the agents are started by hand, on
-    /// any hosts, with `robot-agent --transport zenoh --prefix KEY ...`
-    /// (the command is printed; README: "Running on several machines").
+    /// any hosts, each with its setup file (`gridswarm setup --key KEY
+    /// ...`) and `robot-agent --transport zenoh --prefix KEY --setup FILE
+    /// ...` (the commands are printed; README: "Running on several machines").
     #[arg(long, value_name = "KEY")]
     pub remote_agents: Option<String>,
     /// zenoh: the run's credentials folder (`gridswarm credentials`):

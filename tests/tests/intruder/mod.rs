@@ -283,16 +283,24 @@ pub fn start_world(key: &str, endpoint: &str, security: &[String], run: &[&str],
         .expect("gridswarm starts")
 }
 
-/// Its agents, 0 to `robots - 1`: `robot-agent --transport zenoh --prefix
-/// KEY --connect ENDPOINT SECURITY RUN --robot K`.
-pub fn start_agents(key: &str, endpoint: &str, security: &[String], run: &[&str], robots: usize) -> Vec<Child> {
+/// Its agents, 0 to `robots - 1`: `gridswarm setup --key KEY RUN --robot
+/// K --out FILE` into `setups`, then `robot-agent --transport zenoh
+/// --prefix KEY --connect ENDPOINT SECURITY --setup FILE`.
+pub fn start_agents(
+    key: &str,
+    endpoint: &str,
+    security: &[String],
+    (run, setups): (&[&str], &Path),
+    robots: usize,
+) -> Vec<Child> {
     (0..robots)
         .map(|k| {
+            let setup = gridswarm_e2e::setup_file(setups, key, run, k);
             Command::new(gridswarm_e2e::bin_dir().join("robot-agent"))
                 .args(["--transport", "zenoh", "--prefix", key, "--connect", endpoint])
                 .args(security)
-                .args(run)
-                .args(["--robot", &k.to_string()])
+                .arg("--setup")
+                .arg(setup)
                 .stdin(Stdio::null())
                 .stdout(Stdio::null())
                 .stderr(Stdio::piped())

@@ -190,20 +190,8 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
             opts.algorithm, opts.algorithm
         )));
     }
-    let mut scenario = contract::load_scenario(&opts.scenario)?;
-    let scenario_id = ScenarioId::of(&scenario);
-    if let Some(s) = opts.situation {
-        scenario.situation = s;
-    }
-    if let Some(r) = opts.retries {
-        scenario.params.retries = r;
-    }
-    if let Some(s) = opts.slot {
-        scenario.params.slot = s;
-    }
-    if let Some(o) = opts.order {
-        scenario.params.order = o;
-    }
+    let overrides = Overrides { situation: opts.situation, retries: opts.retries, slot: opts.slot, order: opts.order };
+    let (scenario, scenario_id) = overrides.load(&opts.scenario)?;
     let robots = opts.robots.unwrap_or(scenario.robots);
     if robots == 0 || robots > ipc::MAX_ROBOTS {
         let msg = format!("robots must be 1 to {}, got {robots}", ipc::MAX_ROBOTS);
@@ -238,9 +226,47 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
 impl Plan {
     /// The agreement of this run under `key`, as its world holds it.
     pub fn agreement(&self, key: &str) -> Agreement {
-        let c = &self.cfg;
-        Agreement::new(key, self.scenario_id.clone(), c.seed, c.policy, c.situation, self.world.params)
+        agreement(key, &self.scenario_id, &self.cfg, &self.world)
     }
+}
+
+/// What a run changes of its scenario's settings (`--situation`,
+/// `--retries`, `--slot`, `--order`), the same for the world and for
+/// every robot's setup.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Overrides {
+    pub situation: Option<Situation>,
+    pub retries: Option<u32>,
+    pub slot: Option<SlotRule>,
+    pub order: Option<Order>,
+}
+
+impl Overrides {
+    /// The scenario `name`, with its id taken before the overrides (as
+    /// the world takes it: a file names its own parameters), overridden.
+    pub fn load(&self, name: &str) -> Result<(Scenario, ScenarioId)> {
+        let mut scenario = contract::load_scenario(name)?;
+        let id = ScenarioId::of(&scenario);
+        if let Some(s) = self.situation {
+            scenario.situation = s;
+        }
+        if let Some(r) = self.retries {
+            scenario.params.retries = r;
+        }
+        if let Some(s) = self.slot {
+            scenario.params.slot = s;
+        }
+        if let Some(o) = self.order {
+            scenario.params.order = o;
+        }
+        Ok((scenario, id))
+    }
+}
+
+/// The agreement of run `key` of `world` (its scenario `id`) under `cfg`:
+/// what the world holds and every robot's setup file presents.
+pub fn agreement(key: &str, id: &ScenarioId, cfg: &RunConfig, world: &World) -> Agreement {
+    Agreement::new(key, id.clone(), cfg.seed, cfg.policy, cfg.situation, world.params)
 }
 
 /// What one run produced, for [`run`]'s text and [`execute`]'s summary.

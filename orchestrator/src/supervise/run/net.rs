@@ -143,31 +143,34 @@ fn hosts_of(endpoints: &[String]) -> Vec<String> {
     endpoints.iter().filter_map(host).collect()
 }
 
-/// What to run on each agent's host, for `--remote-agents KEY`.
+/// What to run on each agent's host, for `--remote-agents KEY`: its setup
+/// file (`gridswarm setup`, the run's settings), then the agent.
 pub fn hand_hint(key: &str, opts: &super::RunOptions, plan: &super::Plan) -> String {
     // An agent reaches a world listening on every address at one of them.
     let connect: String =
         opts.net.listen.iter().map(|e| format!(" --connect {}", e.replace("0.0.0.0", "WORLD_HOST"))).collect();
-    let mut extra = match &opts.net.credentials {
+    let security = match &opts.net.credentials {
         Some(dir) => format!(" --credentials {}", dir.display()),
         None if opts.net.insecure_network => " --insecure --insecure-network".into(),
         None => " --insecure".into(),
     };
+    let mut settings = String::new();
     if let Some(s) = opts.situation {
-        extra += &format!(" --situation {}", if s == gridswarm::params::Situation::One { 1 } else { 2 });
+        settings += &format!(" --situation {}", if s == gridswarm::params::Situation::One { 1 } else { 2 });
     }
     if let Some(r) = opts.retries {
-        extra += &format!(" --retries {r}");
+        settings += &format!(" --retries {r}");
     }
     if let Some(s) = opts.slot {
-        extra += &format!(" --slot {}", s.name());
+        settings += &format!(" --slot {}", s.name());
     }
     if let Some(o) = opts.order {
-        extra += &format!(" --order {}", o.name());
+        settings += &format!(" --order {}", o.name());
     }
     format!(
         "waiting for {} robot-agents; on their hosts run, once for each robot number K ({}):\n  \
-         robot-agent --transport zenoh --prefix {key}{connect} --scenario {} --seed {} --algorithm {}{extra} --robot K{}",
+         gridswarm setup --key {key} --scenario {} --seed {} --algorithm {}{settings} --robot K --out robot-K.json\n  \
+         robot-agent --transport zenoh --prefix {key}{connect}{security} --setup robot-K.json{}",
         plan.robots,
         gridswarm::agreement::robot_range(plan.robots),
         opts.scenario,

@@ -1,14 +1,19 @@
-//! The distributed engine's transport, as the world-server and a
-//! robot-agent use it: the world posts a message into robot `r`'s inbox and
-//! wakes it, waits for any robot's answer and reads it back; a robot waits
-//! for its inbox, reads it and answers. Messages are [`crate::wire`] bytes
-//! in [`crate::wire::chunks`]: the transport carries them and never decodes
-//! one, and neither the decision core nor the radio protocol knows which
-//! transport runs underneath.
+//! gridswarm's transports: how the world-server and the robot-agents of a
+//! distributed run reach each other, and nothing of the world. The world
+//! posts a message into robot `r`'s inbox and wakes it, waits for any
+//! robot's answer and reads it back; a robot waits for its inbox, reads it
+//! and answers. Messages are [`gridswarm_robot::wire`] bytes in
+//! [`gridswarm_robot::wire::chunks`]: the transport carries them and never
+//! decodes one, and neither the decision core nor the radio protocol knows
+//! which transport runs underneath.
 //!
-//! Two implementations: iceoryx2 (shared memory, one machine, the default;
-//! the world-server's and the agent's `Ports`) and zenoh (any network,
-//! [`crate::net`], feature `zenoh`).
+//! Two implementations: iceoryx2 (shared memory, one machine, the default:
+//! [`ipc`], under the world-server's and the agent's `Ports`) and zenoh
+//! (any network, [`net`], feature `zenoh`). Both ends of each are here:
+//! they are one protocol (names, chunk limits, repeats), and neither end
+//! needs the world. The crate depends on the robot's crate for the
+//! messages' framing only, and never on `gridswarm`, the world's crate, so
+//! a robot-agent links the robot and a transport and cannot name a world.
 //!
 //! Liveness is the transport's too: iceoryx2 knows a robot by its process
 //! on this host, zenoh by a liveliness token that vanishes with its
@@ -19,6 +24,10 @@
 use std::time::Duration;
 
 pub mod credentials;
+pub mod ipc;
+#[cfg(feature = "zenoh")]
+pub mod net;
+pub mod nofile;
 
 /// Which transport a distributed run uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -1,4 +1,4 @@
-//! What the distributed engine's three programs share (feature `ipc`):
+//! What the distributed engine's three programs share over iceoryx2:
 //! `world-server`, `robot-agent` and the orchestrator's `gridswarm run`.
 //!
 //! - the iceoryx2 [`Config`] of a run, built in code from the run's prefix
@@ -11,7 +11,6 @@
 //! - [`cleanup_run`], which removes every file of a run from `/dev/shm` and
 //!   iceoryx2's root directory, and [`sweep_stale`] for runs whose owner died
 //!   ([`files`]);
-//! - the run report the world-server writes for the orchestrator.
 //!
 //! Topology (one run, `N` robots; the world creates every service):
 //!
@@ -28,8 +27,8 @@
 //! the wake-ups by all ([`wake`]). The world holds 9 descriptors a robot
 //! ([`crate::nofile`]).
 //!
-//! Payloads are chunks ([`crate::wire::chunks`]) of postcard bytes of
-//! [`crate::wire::ToWorld`] (out) and [`crate::wire::ToAgent`] (in). The
+//! Payloads are chunks ([`gridswarm_robot::wire::chunks`]) of postcard bytes of
+//! [`gridswarm_robot::wire::ToWorld`] (out) and [`gridswarm_robot::wire::ToAgent`] (in). The
 //! world is the radio medium: it carries a robot's frames, as opaque bytes,
 //! to the robots in range at their simulated arrival times.
 
@@ -40,9 +39,6 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use iceoryx2::config::Config;
 use iceoryx2::node::NodeView;
 use iceoryx2::prelude::*;
-use serde::{Deserialize, Serialize};
-
-use crate::outcome::{RunConfig, RunResult};
 
 pub mod files;
 pub mod outbox;
@@ -75,7 +71,7 @@ pub fn new_prefix() -> String {
     let nanos =
         std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.subsec_nanos()).unwrap_or(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let nonce = crate::rng::mix(((nanos as u64) << 20) ^ n as u64) & 0xff_ffff;
+    let nonce = gridswarm_robot::rng::mix(((nanos as u64) << 20) ^ n as u64) & 0xff_ffff;
     format!("{PREFIX_HEAD}{}x{nonce:06x}_", std::process::id())
 }
 
@@ -392,69 +388,6 @@ fn status_field(file: &str, key: &str) -> u64 {
                 .and_then(|l| l[key.len()..].trim().trim_end_matches("kB").trim().parse().ok())
         })
         .unwrap_or(0)
-}
-
-/// What the orchestrator hands the world-server (`--run FILE`).
-#[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RunFile {
-    /// Built-in scenario name or TOML path.
-    pub scenario: String,
-    pub robots: usize,
-    /// Overrides the scenario's `params.retries`.
-    #[serde(default)]
-    pub retries: Option<u32>,
-    /// Overrides the scenario's `params.slot`.
-    #[serde(default)]
-    pub slot: Option<crate::params::SlotRule>,
-    /// Overrides the scenario's `params.order`.
-    #[serde(default)]
-    pub order: Option<crate::params::Order>,
-    /// How the world places the robots (drawn from `config.seed` when random).
-    #[serde(default)]
-    pub starts: crate::scenario::StartRule,
-    pub config: RunConfig,
-}
-
-/// What the world-server writes at the end of a run, for the orchestrator.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct RunReport {
-    /// The kernel's result (its trajectories and round times are below).
-    pub result: RunResult,
-    /// Simulated time at the end of each round (element `k` ends round `k`).
-    pub round_end_times_s: Vec<f64>,
-    /// `vertices[r][k]`: the vertex id robot `r` stood on at the start of round `k`.
-    pub vertices: Vec<Vec<u32>>,
-    /// Wall time of every round played, in milliseconds, pauses for
-    /// fault injection left out.
-    pub round_wall_ms: Vec<f64>,
-    /// From the world's start until every robot had said hello, in milliseconds.
-    pub startup_ms: f64,
-    /// Wall time spent paused at faults, in milliseconds.
-    pub paused_ms: f64,
-    pub world_fds: usize,
-    pub world_peak_rss_kib: u64,
-    /// CPU time the world spent after every hello, ms.
-    pub world_cpu_ms: f64,
-    /// Peak RSS of each robot-agent still running at the end (0 if unknown), KiB.
-    pub agent_peak_rss_kib: Vec<u64>,
-    /// CPU time each robot-agent still running at the end had used, ms.
-    pub agent_cpu_ms: Vec<f64>,
-    /// Robots whose process vanished outside the fault schedule.
-    pub died: Vec<usize>,
-    /// Wire messages the world dropped (stale or malformed chunks).
-    pub dropped: u64,
-    /// Times the world checked whether robots it waited on still exist.
-    #[serde(default)]
-    pub liveness_checks: u64,
-    /// Round trips: wake-ups of the robots due at one simulated instant.
-    #[serde(default)]
-    pub wake_batches: u64,
-    /// Bytes of the largest wake-up (more than [`CHUNK_BYTES`]: it went in chunks).
-    #[serde(default)]
-    pub largest_wake_bytes: usize,
-    /// What every robot-agent of the run agreed on (the world's own).
-    pub agreement: crate::agreement::Agreement,
 }
 
 #[cfg(test)]

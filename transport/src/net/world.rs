@@ -14,10 +14,10 @@ use zenoh::{Session, Wait};
 
 use super::retry::Outstanding;
 use super::{err, one_chunk, publisher, NetConfig};
+use crate::credentials::Holder;
 use crate::ipc;
-use crate::transport::credentials::Holder;
-use crate::transport::WorldTransport;
-use crate::wire::HANDSHAKE;
+use crate::WorldTransport;
+use gridswarm_robot::wire::HANDSHAKE;
 
 /// Answers the world's subscriber holds before zenoh's receiving thread
 /// waits for the world to read them (every robot's answer to one wake-up).

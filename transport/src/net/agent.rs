@@ -14,10 +14,10 @@ use zenoh::{Session, Wait};
 
 use super::retry::{seq_of, Incoming, Replies};
 use super::{err, one_chunk, publisher, NetConfig, Security};
+use crate::credentials::Holder;
 use crate::ipc;
-use crate::transport::credentials::Holder;
-use crate::transport::AgentTransport;
-use crate::wire::HANDSHAKE;
+use crate::AgentTransport;
+use gridswarm_robot::wire::HANDSHAKE;
 
 pub struct ZenohAgent {
     outbox: Publisher<'static>,

@@ -11,7 +11,7 @@
 
 use std::time::{Duration, Instant};
 
-use crate::wire::CHUNK_HEADER;
+use gridswarm_robot::wire::CHUNK_HEADER;
 
 /// The first repeat of an unanswered message: far above an answer's usual
 /// delay, far below the run's patience.

@@ -29,7 +29,7 @@
 //! lets robot `K` speak and hear only as robot `K`. Plain TCP, which
 //! anyone who reaches the endpoint can read and join, is [`Security::Plain`]
 //! (`--insecure`), for loopback unless asked otherwise
-//! ([`crate::transport::Guard`]).
+//! ([`crate::Guard`]).
 
 mod agent;
 mod retry;
@@ -41,10 +41,10 @@ pub use world::ZenohWorld;
 
 use std::time::Duration;
 
+use crate::credentials::{Credentials, Holder};
 use crate::ipc;
-use crate::transport::credentials::{Credentials, Holder};
-use crate::transport::Guard;
-use crate::wire;
+use crate::Guard;
+use gridswarm_robot::wire;
 
 /// How a run's links are protected.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -121,7 +121,7 @@ impl NetConfig {
     }
 
     fn root(&self) -> Result<String, String> {
-        crate::transport::check_key(&self.key)?;
+        crate::check_key(&self.key)?;
         Ok(format!("gridswarm/{}", self.key))
     }
 
@@ -168,7 +168,7 @@ fn quote(s: &str) -> Result<String, String> {
 
 fn list(items: &[String]) -> Result<String, String> {
     for e in items {
-        crate::transport::check_endpoint(e)?;
+        crate::check_endpoint(e)?;
     }
     let quoted: Result<Vec<String>, String> = items.iter().map(|s| quote(s)).collect();
     Ok(format!("[{}]", quoted?.join(",")))

@@ -10,7 +10,7 @@
 
 use serde_json::json;
 
-use crate::transport::credentials::{robot_name, Credentials, Holder};
+use crate::credentials::{robot_name, Credentials, Holder};
 
 /// The settings `(key, JSON value)` of mutual TLS for `holder`.
 pub fn tls(creds: &Credentials, holder: Holder) -> Result<Vec<(&'static str, String)>, String> {
