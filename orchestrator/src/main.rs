@@ -26,6 +26,7 @@ use gridswarm_orchestrator::radio::{self, RadioOptions};
 use gridswarm_orchestrator::readings::{self, ReadingsOptions};
 use gridswarm_orchestrator::robots::{RobotCounts, MAX_ROBOTS};
 use gridswarm_orchestrator::scale::{self, ScaleOptions};
+use gridswarm_orchestrator::settings::Setting;
 use gridswarm_orchestrator::simulate::{self, SimulateOptions};
 use gridswarm_orchestrator::sweep::{Engine, ProtocolOptions};
 use gridswarm_orchestrator::{check, Error};
@@ -123,6 +124,11 @@ enum Command {
         /// from each run's seed, the same layout for every algorithm of a run index).
         #[arg(long, value_name = "RULE", default_value_t = StartRule::Fixed, conflicts_with = "grids")]
         starts: StartRule,
+        /// Sweep a scenario key: `KEY=V1,V2,...` for any [params] or [lfp] key (e.g. t_wait=1,2,4 or
+        /// turn=0.5,uniform). Repeat for a grid: every combination is swept with the same seeds,
+        /// and every output has a column per key.
+        #[arg(long, value_name = "KEY=V1,V2,...", conflicts_with_all = ["grids", "maps"])]
+        set: Vec<Setting>,
     },
     /// Repeat the command that wrote DIR from its provenance (the recorded command line and
     /// scenario text, not the scenario file) into a new folder, and check that the outputs
@@ -536,6 +542,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             maps,
             verbose,
             starts,
+            set,
         } => {
             let opts = ExperimentOptions {
                 scenario,
@@ -550,6 +557,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 maps,
                 verbose,
                 starts,
+                set,
             };
             let (_, text) = experiment::run(&opts)?;
             emit(&text);
