@@ -22,6 +22,7 @@ pub mod provenance;
 pub mod supervise;
 pub mod write;
 
+pub use cli::command::main_with;
 pub use cli::{check, faults, robots, simulate};
 pub use error::{Error, Result};
 pub use experiments::{
