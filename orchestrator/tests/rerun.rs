@@ -154,6 +154,7 @@ fn a_set_sweep_has_a_column_per_key_shares_its_seeds_and_reruns_byte_for_byte() 
     assert_eq!(s["set"][1]["values"], serde_json::json!(["1.3", "1.2"]));
     assert_eq!((s["cells"][2]["t_trans"].as_f64(), s["cells"][2]["r_st"].as_f64()), (Some(5.6), Some(1.2)));
     assert_eq!(s["combinations"][3]["params"]["t_trans"], 8.0);
+    assert_eq!(s["provenance"]["parameters"]["set"], s["set"]);
     let report = fs::read_to_string(out.join("report.html")).unwrap();
     assert!(report.contains("t_trans=8, r_st=1.2"));
 

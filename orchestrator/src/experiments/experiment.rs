@@ -415,6 +415,11 @@ pub(crate) fn provenance_of(opts: &ExperimentOptions, summary: &serde_json::Valu
     for k in ["algorithms", "robots", "runs", "situation", "max_rounds", "params", "lfp"] {
         parameters[k] = summary[k].clone();
     }
+    // A `--set` grid: its keys and values (each combination's own
+    // parameters are in summary.json's `combinations`).
+    if let Some(set) = summary.get("set") {
+        parameters["set"] = set.clone();
+    }
     provenance::Record {
         scenario_arg: Some(&opts.scenario),
         parameters,
