@@ -125,3 +125,59 @@ fn simulate_records_its_starts_and_reruns() {
     assert_ok(&o);
     assert!(text(&o.stdout).contains("same     trajectories.jsonl\n"), "{}", text(&o.stdout));
 }
+
+#[test]
+fn a_set_sweep_has_a_column_per_key_shares_its_seeds_and_reruns_byte_for_byte() {
+    let out = scratch("set").join("out");
+    let args = ["experiment", "--runs", "3", "--robots", "2,3", "--algorithms", "sequential"];
+    let set = ["--set", "t_trans=5.6,8", "--set", "r_st=1.3,1.2", "--out", out.to_str().unwrap()];
+    let o = gridswarm(&[&args[..], &set[..]].concat());
+    assert_ok(&o);
+    assert!(
+        text(&o.stdout).starts_with("scenario paper, 3 runs per cell, base seed 1, 4 combinations of t_trans, r_st")
+    );
+
+    let results = fs::read_to_string(out.join("results.csv")).unwrap();
+    assert!(results.lines().next().unwrap().ends_with(",map,t_trans,r_st"), "{results}");
+    assert_eq!(results.lines().count(), 1 + 4 * 2, "a row per combination and robot count");
+    let runs = fs::read_to_string(out.join("runs.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = runs.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 4 * 2 * 3);
+    // Every combination runs on the same seeds; the values change the runs.
+    let of = |t: &str, r: &str| rows.iter().filter(|x| x[10] == t && x[11] == r).collect::<Vec<_>>();
+    let (a, b) = (of("5.6", "1.3"), of("8", "1.3"));
+    assert_eq!(a.len(), 6);
+    assert!(a.iter().zip(&b).all(|(x, y)| x[3] == y[3]), "common random numbers");
+    assert!(a.iter().zip(&b).all(|(x, y)| x[4].parse::<f64>().unwrap() < y[4].parse::<f64>().unwrap()));
+
+    let s = summary(&out);
+    assert_eq!(s["set"][1]["values"], serde_json::json!(["1.3", "1.2"]));
+    assert_eq!((s["cells"][2]["t_trans"].as_f64(), s["cells"][2]["r_st"].as_f64()), (Some(5.6), Some(1.2)));
+    assert_eq!(s["combinations"][3]["params"]["t_trans"], 8.0);
+    assert_eq!(s["provenance"]["parameters"]["set"], s["set"]);
+    let report = fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(report.contains("t_trans=8, r_st=1.2"));
+
+    let o = gridswarm(&["rerun", out.to_str().unwrap()]);
+    assert_ok(&o);
+    for f in ["results.csv", "runs.csv", "claims.txt"] {
+        assert_eq!(fs::read(out.join(f)).unwrap(), fs::read(out.join("rerun").join(f)).unwrap(), "{f}");
+    }
+}
+
+#[test]
+fn a_bad_set_names_its_key_and_exits_2() {
+    let out = scratch("badset").join("out");
+    for (set, said) in [
+        ("nope=1", "`nope` is no [params] or [lfp] key"),
+        ("t_wait=1,soon", "--set t_wait=soon: invalid type"),
+        ("turn=sideways", "--set turn=sideways: invalid value"),
+        ("t_wait", "is not KEY=V1,V2"),
+    ] {
+        let o =
+            gridswarm(&["experiment", "--runs", "1", "--robots", "2", "--set", set, "--out", out.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{set}");
+        assert!(text(&o.stderr).contains(said), "{set}: {}", text(&o.stderr));
+        assert!(!out.exists(), "nothing written for {set}");
+    }
+}

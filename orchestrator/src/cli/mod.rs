@@ -2,10 +2,12 @@
 //! `simulate` and `run`, robot-count lists, and the commands that are one
 //! in-process call (`simulate`, `check`, `export-map`), and `credentials`
 //! and `setup` (the files an agent started by hand needs).
-//! `main.rs` parses and dispatches.
+//! `command.rs` is the command line itself: it parses and dispatches
+//! (`main.rs` only calls it).
 
 pub mod agents;
 pub mod check;
+pub mod command;
 pub mod credentials;
 pub mod export;
 pub mod faults;

@@ -60,6 +60,8 @@ pub struct ExperimentOptions {
     pub verbose: bool,
     /// Where the robots start: the scenario's layout, or drawn per run.
     pub starts: StartRule,
+    /// `--set`: scenario keys to sweep over, every combination of their values.
+    pub set: Vec<crate::settings::Setting>,
 }
 
 impl ExperimentOptions {
@@ -79,6 +81,7 @@ impl ExperimentOptions {
             maps: None,
             verbose: false,
             starts: StartRule::Fixed,
+            set: Vec::new(),
         }
     }
 }
@@ -134,143 +137,41 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             m.scenario.situation = s;
         }
     }
-    let scenario = maps[0].scenario.clone();
+    if !opts.set.is_empty() {
+        return crate::set_sweep::run(opts, &algorithms, &maps);
+    }
     // Before any run, so a bad directory fails at once.
     let stage = Staging::begin(&opts.out)?;
-    let worlds: Vec<World> = maps.iter().map(|m| m.scenario.world()).collect();
-    let lfp = contract::lfp_params(&scenario);
-    let fixed =
-        maps.iter().zip(&worlds).map(|(m, w)| place(&m.scenario, w, &opts.robots)).collect::<Result<Vec<_>>>()?;
-    let pairs: Vec<(&Scenario, &World)> = maps.iter().map(|m| &m.scenario).zip(&worlds).collect();
-    let starts = Layouts::new(opts.starts, &pairs, &opts.robots, fixed, (opts.seed, opts.runs as usize))?;
-
-    let started = Instant::now();
-    let plan = Plan {
-        algorithms: &algorithms,
-        robots: &opts.robots,
-        starts: &starts,
-        maps: maps.len(),
-        runs: opts.runs as usize,
-    };
-    let runners: Vec<Runner> =
-        maps.iter().zip(&worlds).map(|(m, w)| Runner::new(w, contract::lfp_params(&m.scenario))).collect();
-    let records = plan.execute(&runners, scenario.situation, opts);
-    let wall_time_s = started.elapsed().as_secs_f64();
-
-    let per_map: Vec<Vec<CellStats>> = records
-        .chunks(plan.per_map())
-        .map(|m| plan.cells().zip(m.chunks(plan.runs)).map(|((p, r), c)| CellStats::of(p, r, c)).collect())
-        .collect();
-    let pooled = plan.pooled_runs(&records);
-    let cells: Vec<CellStats> = plan.cells().zip(&pooled).map(|((p, r), runs)| CellStats::of(p, r, runs)).collect();
-    let robot_rounds = plan.jobs().iter().zip(&records).map(|(j, x)| x.rounds as u64 * opts.robots[j.2] as u64).sum();
-    // Paired run by run: run k of every algorithm shares its seed and map.
-    let per_cell: Vec<&[RunRecord]> = pooled.iter().map(Vec::as_slice).collect();
-    let claims = claims::evaluate(&cells, &per_cell);
-    let oracle = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
-    // On the first map, the sweep's first runs under the other readings.
-    let sweep = sensitivity::Sweep {
-        scenario: &maps[0].scenario,
-        world: &worlds[0],
-        robots: &opts.robots,
-        starts: &starts,
-        seed: opts.seed,
-        max_rounds: opts.max_rounds,
-    };
-    let first = plan.runs.min(sensitivity::RUNS);
-    let readings = sensitivity::run(&sweep, &algorithms, first, |p, r| {
-        let a = algorithms.iter().position(|&q| q == p)?;
-        // Map 0's runs of the cell come first in the sweep's records.
-        let cell = &records[(a * opts.robots.len() + r) * plan.runs..][..first];
-        let done: Vec<f64> = cell.iter().filter(|x| x.complete).map(|x| x.search_time_s).collect();
-        (!done.is_empty()).then(|| done.iter().sum::<f64>() / done.len() as f64)
-    });
-    let map_rows = maps::rows(&maps);
-    let spreads = maps::spreads(&per_map);
+    let part = Part::compute(opts, &algorithms, &maps)?;
+    let Part { scenario, cells, claims, oracle, wall_time_s, robot_rounds, .. } = &part;
     let several = opts.maps.is_some();
-    let claims_text = incomplete_note(&cells, opts.max_rounds) + &claims::render(&claims);
+    let spreads = maps::spreads(&part.per_map);
     let maps_line = if several { maps::summary_line(&maps) } else { String::new() };
-    let setup = format!(
-        "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {}, max {} rounds, {} starts\n\
-         {maps_line}params: {}\nlfp: {}\n",
-        output::shown(&scenario.name),
-        scenario.grid.name(),
-        scenario.situation.number(),
-        opts.runs,
-        if several {
-            format!(" and map ({} runs per cell in all)", opts.runs as usize * maps.len())
-        } else {
-            String::new()
-        },
-        opts.seed,
-        opts.max_rounds,
-        opts.starts,
-        serde_json::to_string(&scenario.params).expect("params serialise"),
-        serde_json::to_string(&lfp).expect("lfp params serialise"),
-    );
-
     let spread_note = if several { format!("{}\n", crate::spread::one_line(&spreads)) } else { String::new() };
-    let shown_claims = if opts.verbose { claims::render(&claims) } else { claims::render_short(&claims) };
+    let setup = part.setup(opts, &maps);
     let text = format!(
-        "{}{}{spread_note}\n{}{shown_claims}\n{} runs in {wall_time_s:.2} s wall time on {} threads; \
-         wrote results.csv, runs.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
-        if opts.verbose { setup.clone() } else { short_setup(&scenario, opts, maps.len()) + &maps_line },
-        table(&cells, &oracle),
-        incomplete_note(&cells, opts.max_rounds),
-        records.len(),
-        rayon::current_num_threads(),
-        if several { "maps.csv, " } else { "" },
-        opts.out.display()
+        "{}{}{spread_note}\n{}{}\n{}",
+        if opts.verbose { setup.clone() } else { short_setup(scenario, opts, maps.len()) + &maps_line },
+        table(cells, oracle),
+        incomplete_note(cells, opts.max_rounds),
+        part.shown_claims(opts),
+        ran_line(part.records.len(), *wall_time_s, several, &opts.out),
     );
     // Every file goes into a staging folder renamed into place at the end;
     // if a write fails the table is still shown, then the error.
     let out = &stage.path().to_path_buf();
     let write = || -> Result<()> {
-        let map_cells: &[Vec<CellStats>] = if several { &per_map } else { &[] };
-        output::write_text(&out.join("results.csv"), &results_csv(&cells, map_cells))?;
-        output::write_file(&out.join("runs.csv"), |w| plan.write_runs_csv(w, &records))?;
+        let map_cells: &[Vec<CellStats>] = if several { &part.per_map } else { &[] };
+        output::write_text(&out.join("results.csv"), &results_csv(cells, map_cells))?;
+        output::write_file(&out.join("runs.csv"), |w| part.plan().write_runs_csv(w, &part.records))?;
+        let map_rows = maps::rows(&maps);
         if several {
             output::write_text(&out.join("maps.csv"), &maps::csv(&map_rows))?;
         }
-        let fig_path = out.join("fig7.svg");
-        let title = if several {
-            format!(
-                "{} random maps from {}: mean search time of {} runs",
-                maps.len(),
-                output::shown(&scenario.name),
-                opts.runs * maps.len() as u32
-            )
-        } else {
-            format!("{}: mean search time of {} runs", output::shown(&scenario.name), opts.runs)
-        };
-        let svg = plot::fig7_svg(&cells, &algorithms, &title)
-            .map_err(|message| Error::Plot { path: fig_path.clone(), message })?;
-        output::write_text(&fig_path, &svg)?;
-        output::write_text(&out.join("claims.txt"), &format!("{setup}\n{claims_text}"))?;
-        let mut summary = json!({
-            "scenario": scenario.name,
-            "grid": scenario.grid.name(),
-            "situation": scenario.situation.number(),
-            "algorithms": algorithms.iter().map(|p| p.name()).collect::<Vec<_>>(),
-            "robots": opts.robots,
-            "runs": opts.runs,
-            "seed": opts.seed,
-            "seed_derivation": "run k with N robots has seed derive(derive(seed, N), k) with gridswarm::rng::derive, \
-                the same for every algorithm (common random numbers: claims compare runs pairwise)",
-            "max_rounds": opts.max_rounds,
-            "starts": opts.starts,
-            "start_derivation": START_NOTE,
-            "transport": super::sweep::Engine::InProcess.transport(),
-            "params": scenario.params,
-            "lfp": lfp,
-            "statistics": "mean, std (n-1), ci95 = 1.96 std / sqrt(n), median, rounds and collisions over completed \
-                runs; mean_targets_found over all runs",
-            "cells": cells,
-            "oracle_reference_s": oracle,
-            "oracle_reference": ORACLE_NOTE,
-            "sensitivity": readings,
-            "claims": claims,
-        });
+        let svg = part.svg(out, &fig_title(scenario, opts, maps.len()))?;
+        output::write_text(&out.join("fig7.svg"), &svg)?;
+        output::write_text(&out.join("claims.txt"), &format!("{setup}\n{}", part.claims_text(opts)))?;
+        let mut summary = part.summary(opts);
         summary[provenance::KEY] = provenance_of(opts, &summary)?;
         if several {
             summary["maps"] = json!(map_rows);
@@ -283,15 +184,15 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         output::write_json(&out.join("summary.json"), &summary)?;
         let page = report::fig7(&report::Fig7Inputs {
             summary: &summary,
-            cells: &cells,
-            claims: &claims,
+            cells,
+            claims,
             fig7_svg: &svg,
-            incomplete_note: &incomplete_note(&cells, opts.max_rounds),
-            wall_time_s,
+            incomplete_note: &incomplete_note(cells, opts.max_rounds),
+            wall_time_s: *wall_time_s,
             threads: rayon::current_num_threads(),
-            runs_total: records.len(),
-            oracle: &oracle,
-            extra: [report::sensitivity_section(&readings)]
+            runs_total: part.records.len(),
+            oracle,
+            extra: [report::sensitivity_section(&part.readings)]
                 .into_iter()
                 .flatten()
                 .chain(if several { crate::spread::sections(&maps, &map_rows, &spreads) } else { Vec::new() })
@@ -301,14 +202,223 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         output::write_text(&out.join("report.html"), &report::render(&page))
     };
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
-    Ok((Sweep { cells, claims, wall_time_s, robot_rounds }, text))
+    let sweep =
+        Sweep { cells: cells.clone(), claims: claims.clone(), wall_time_s: *wall_time_s, robot_rounds: *robot_rounds };
+    Ok((sweep, text))
 }
 
+/// The last line of the printed text: what ran and what was written.
+pub(crate) fn ran_line(runs: usize, wall_time_s: f64, several: bool, out: &std::path::Path) -> String {
+    format!(
+        "{runs} runs in {wall_time_s:.2} s wall time on {} threads; \
+         wrote results.csv, runs.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
+        rayon::current_num_threads(),
+        if several { "maps.csv, " } else { "" },
+        out.display()
+    )
+}
+
+/// The figure's title.
+pub(crate) fn fig_title(scenario: &Scenario, opts: &ExperimentOptions, maps: usize) -> String {
+    if opts.maps.is_some() {
+        format!(
+            "{} random maps from {}: mean search time of {} runs",
+            maps,
+            output::shown(&scenario.name),
+            opts.runs * maps as u32
+        )
+    } else {
+        format!("{}: mean search time of {} runs", output::shown(&scenario.name), opts.runs)
+    }
+}
+
+/// One sweep's numbers (every algorithm and robot count, on every map of
+/// one scenario setting), before any file is written.
+pub(crate) struct Part {
+    /// The first map's scenario.
+    pub scenario: Scenario,
+    pub algorithms: Vec<Policy>,
+    pub robots: Vec<usize>,
+    pub starts: Layouts,
+    pub maps: usize,
+    pub runs: usize,
+    /// Every run, in the plan's order.
+    pub records: Vec<RunRecord>,
+    pub per_map: Vec<Vec<CellStats>>,
+    pub cells: Vec<CellStats>,
+    pub claims: Vec<ClaimResult>,
+    pub oracle: BTreeMap<usize, f64>,
+    pub readings: Vec<sensitivity::Row>,
+    pub wall_time_s: f64,
+    pub robot_rounds: u64,
+}
+
+impl Part {
+    /// Runs the sweep on `maps` (their scenarios as given, already set).
+    pub fn compute(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[maps::Map]) -> Result<Part> {
+        let scenario = maps[0].scenario.clone();
+        let worlds: Vec<World> = maps.iter().map(|m| m.scenario.world()).collect();
+        let fixed =
+            maps.iter().zip(&worlds).map(|(m, w)| place(&m.scenario, w, &opts.robots)).collect::<Result<Vec<_>>>()?;
+        let pairs: Vec<(&Scenario, &World)> = maps.iter().map(|m| &m.scenario).zip(&worlds).collect();
+        let starts = Layouts::new(opts.starts, &pairs, &opts.robots, fixed, (opts.seed, opts.runs as usize))?;
+
+        let started = Instant::now();
+        let plan =
+            Plan { algorithms, robots: &opts.robots, starts: &starts, maps: maps.len(), runs: opts.runs as usize };
+        let runners: Vec<Runner> =
+            maps.iter().zip(&worlds).map(|(m, w)| Runner::new(w, contract::lfp_params(&m.scenario))).collect();
+        let records = plan.execute(&runners, scenario.situation, opts);
+        let wall_time_s = started.elapsed().as_secs_f64();
+
+        let per_map: Vec<Vec<CellStats>> = records
+            .chunks(plan.per_map())
+            .map(|m| plan.cells().zip(m.chunks(plan.runs)).map(|((p, r), c)| CellStats::of(p, r, c)).collect())
+            .collect();
+        let pooled = plan.pooled_runs(&records);
+        let cells: Vec<CellStats> = plan.cells().zip(&pooled).map(|((p, r), runs)| CellStats::of(p, r, runs)).collect();
+        let robot_rounds =
+            plan.jobs().iter().zip(&records).map(|(j, x)| x.rounds as u64 * opts.robots[j.2] as u64).sum();
+        // Paired run by run: run k of every algorithm shares its seed and map.
+        let per_cell: Vec<&[RunRecord]> = pooled.iter().map(Vec::as_slice).collect();
+        let claims = claims::evaluate(&cells, &per_cell);
+        let oracle = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
+        // On the first map, the sweep's first runs under the other readings.
+        let sweep = sensitivity::Sweep {
+            scenario: &maps[0].scenario,
+            world: &worlds[0],
+            robots: &opts.robots,
+            starts: &starts,
+            seed: opts.seed,
+            max_rounds: opts.max_rounds,
+        };
+        let first = plan.runs.min(sensitivity::RUNS);
+        let readings = sensitivity::run(&sweep, algorithms, first, |p, r| {
+            let a = algorithms.iter().position(|&q| q == p)?;
+            // Map 0's runs of the cell come first in the sweep's records.
+            let cell = &records[(a * opts.robots.len() + r) * plan.runs..][..first];
+            let done: Vec<f64> = cell.iter().filter(|x| x.complete).map(|x| x.search_time_s).collect();
+            (!done.is_empty()).then(|| done.iter().sum::<f64>() / done.len() as f64)
+        });
+        Ok(Part {
+            scenario,
+            algorithms: algorithms.to_vec(),
+            robots: opts.robots.clone(),
+            starts,
+            maps: maps.len(),
+            runs: opts.runs as usize,
+            records,
+            per_map,
+            cells,
+            claims,
+            oracle,
+            readings,
+            wall_time_s,
+            robot_rounds,
+        })
+    }
+
+    fn plan(&self) -> Plan<'_> {
+        Plan {
+            algorithms: &self.algorithms,
+            robots: &self.robots,
+            starts: &self.starts,
+            maps: self.maps,
+            runs: self.runs,
+        }
+    }
+
+    /// runs.csv's text.
+    pub fn runs_csv(&self) -> String {
+        let mut w = Vec::new();
+        self.plan().write_runs_csv(&mut w, &self.records).expect("writing to memory");
+        String::from_utf8(w).expect("runs.csv is text")
+    }
+
+    /// Every parameter of the setting, for claims.txt and `--verbose`.
+    pub fn setup(&self, opts: &ExperimentOptions, maps: &[maps::Map]) -> String {
+        let scenario = &self.scenario;
+        let several = opts.maps.is_some();
+        let maps_line = if several { maps::summary_line(maps) } else { String::new() };
+        format!(
+            "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {}, max {} rounds, {} starts\n\
+             {maps_line}params: {}\nlfp: {}\n",
+            output::shown(&scenario.name),
+            scenario.grid.name(),
+            scenario.situation.number(),
+            opts.runs,
+            if several {
+                format!(" and map ({} runs per cell in all)", opts.runs as usize * maps.len())
+            } else {
+                String::new()
+            },
+            opts.seed,
+            opts.max_rounds,
+            opts.starts,
+            serde_json::to_string(&scenario.params).expect("params serialise"),
+            serde_json::to_string(&contract::lfp_params(scenario)).expect("lfp params serialise"),
+        )
+    }
+
+    /// The claims as claims.txt has them, with the incomplete note.
+    pub fn claims_text(&self, opts: &ExperimentOptions) -> String {
+        incomplete_note(&self.cells, opts.max_rounds) + &claims::render(&self.claims)
+    }
+
+    /// The claims as the terminal shows them.
+    pub fn shown_claims(&self, opts: &ExperimentOptions) -> String {
+        if opts.verbose {
+            claims::render(&self.claims)
+        } else {
+            claims::render_short(&self.claims)
+        }
+    }
+
+    /// Draws fig7.svg (not written).
+    pub fn svg(&self, out: &std::path::Path, title: &str) -> Result<String> {
+        plot::fig7_svg(&self.cells, &self.algorithms, title)
+            .map_err(|message| Error::Plot { path: out.join("fig7.svg"), message })
+    }
+
+    /// summary.json without its provenance.
+    pub fn summary(&self, opts: &ExperimentOptions) -> serde_json::Value {
+        let scenario = &self.scenario;
+        json!({
+            "scenario": scenario.name,
+            "grid": scenario.grid.name(),
+            "situation": scenario.situation.number(),
+            "algorithms": self.algorithms.iter().map(|p| p.name()).collect::<Vec<_>>(),
+            "robots": opts.robots,
+            "runs": opts.runs,
+            "seed": opts.seed,
+            "seed_derivation": "run k with N robots has seed derive(derive(seed, N), k) with gridswarm::rng::derive, \
+                the same for every algorithm (common random numbers: claims compare runs pairwise)",
+            "max_rounds": opts.max_rounds,
+            "starts": opts.starts,
+            "start_derivation": START_NOTE,
+            "transport": super::sweep::Engine::InProcess.transport(),
+            "params": scenario.params,
+            "lfp": contract::lfp_params(scenario),
+            "statistics": "mean, std (n-1), ci95 = 1.96 std / sqrt(n), median, rounds and collisions over completed \
+                runs; mean_targets_found over all runs",
+            "cells": self.cells,
+            "oracle_reference_s": self.oracle,
+            "oracle_reference": ORACLE_NOTE,
+            "sensitivity": self.readings,
+            "claims": self.claims,
+        })
+    }
+}
 /// The sweep's provenance, its parameters as `summary` has them.
-fn provenance_of(opts: &ExperimentOptions, summary: &serde_json::Value) -> Result<serde_json::Value> {
+pub(crate) fn provenance_of(opts: &ExperimentOptions, summary: &serde_json::Value) -> Result<serde_json::Value> {
     let mut parameters = json!({ "maps": opts.maps });
     for k in ["algorithms", "robots", "runs", "situation", "max_rounds", "params", "lfp"] {
         parameters[k] = summary[k].clone();
+    }
+    // A `--set` grid: its keys and values (each combination's own
+    // parameters are in summary.json's `combinations`).
+    if let Some(set) = summary.get("set") {
+        parameters["set"] = set.clone();
     }
     provenance::Record {
         scenario_arg: Some(&opts.scenario),

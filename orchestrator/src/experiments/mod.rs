@@ -4,7 +4,8 @@
 //! running jobs on either engine (`sweep`), where runs start (`layouts`), reading a run's figures
 //! (`tally`), statistics, seeds, the maps a sweep runs on (`maps`), and how
 //! much a sweep depends on the paper's readings (`sensitivity`), and the
-//! claims re-evaluated over a grid of those readings (`readings`).
+//! claims re-evaluated over a grid of those readings (`readings`), and the
+//! sweep over a grid of `--set` scenario values (`settings`, `set_sweep`).
 
 pub mod claims;
 pub mod experiment;
@@ -17,6 +18,8 @@ pub mod readings;
 pub mod scale;
 pub mod seeds;
 pub mod sensitivity;
+pub mod set_sweep;
+pub mod settings;
 pub mod stats;
 pub mod sweep;
 pub mod tally;
