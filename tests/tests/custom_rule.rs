@@ -53,7 +53,10 @@ fn a_rule_of_ones_own_runs_in_both_engines_alike() {
 #[test]
 fn the_examples_binary_is_the_whole_tool_plus_its_rule() {
     let example = bin_dir().join("examples").join("my_rule");
-    let out = scratch("custom-rule-sweep").join("out");
+    // Held to the end: the scratch removes its folder when dropped, and
+    // the sweep would recreate `out` inside a folder no one removes.
+    let dir = scratch("custom-rule-sweep");
+    let out = dir.join("out");
     let sweep = Command::new(&example)
         .args(["experiment", "--algorithms", "sweep,sequential", "--robots", "2,3", "--runs", "2"])
         .args(["--set", "t_trans=4.5,6", "--out", out.to_str().unwrap()])
