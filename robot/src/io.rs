@@ -40,8 +40,8 @@ pub struct Tick {
     pub open: u8,
     /// Adjacency slots whose vertex holds another robot (sonar).
     pub occupied: u8,
-    /// Targets within `r_st` (laser).
-    pub targets: Vec<u32>,
+    /// Targets within `r_st`, each where it is (laser).
+    pub targets: Vec<crate::spot::Spot>,
 }
 
 /// A frame to broadcast.

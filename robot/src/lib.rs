@@ -27,4 +27,5 @@ pub mod protocol;
 pub mod rng;
 pub mod robot;
 pub mod setup;
+pub mod spot;
 pub mod wire;

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::bitset::Bitset;
 use crate::grid::{Grid, VertexId};
+use crate::spot::Spots;
 
 pub mod tiles;
 
@@ -44,9 +45,8 @@ pub struct Map {
     /// set once anyone sensed there), the masks in a table shared with
     /// other maps (see [`tiles`]).
     cells: Tiles,
-    /// Target ids known found. It grows as targets are learnt: in situation
-    /// 2 a robot does not know how many there are.
-    pub targets: Bitset,
+    /// Targets known found, by where they are.
+    pub targets: Spots,
     /// The latest failure declared of each robot, sorted by robot.
     pub failed: Vec<Failure>,
     /// For robots once declared failed: the latest round in which one was
@@ -146,7 +146,7 @@ impl Serialize for Map {
 
 impl<'de> Deserialize<'de> for Map {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let f = Flat::<Bitset, Vec<Failure>, Vec<(RobotId, u32)>, Vec<(VertexId, u32)>>::deserialize(d)?;
+        let f = Flat::<Spots, Vec<Failure>, Vec<(RobotId, u32)>, Vec<(VertexId, u32)>>::deserialize(d)?;
         let cells = Tiles::from_flat(f.visited.words(), f.known.words(), &f.open).ok_or_else(|| {
             serde::de::Error::custom("map bitsets sized for another grid than its edge masks, or set past the end")
         })?;
@@ -163,10 +163,10 @@ impl<'de> Deserialize<'de> for Map {
 }
 
 impl Map {
-    pub fn new(vertices: usize, targets: usize) -> Self {
+    pub fn new(vertices: usize) -> Self {
         Map {
             cells: Tiles::new(vertices),
-            targets: Bitset::new(targets),
+            targets: Spots::default(),
             failed: Vec::new(),
             alive: Vec::new(),
             bodies: Vec::new(),
@@ -238,7 +238,7 @@ impl Map {
 
     /// Everything but the tiles, copied from `source` into this map's allocations.
     fn clone_rest_from(&mut self, source: &Map) {
-        self.targets.clone_from(&source.targets);
+        self.targets.clone_from_spots(&source.targets);
         self.failed.clone_from(&source.failed);
         self.alive.clone_from(&source.alive);
         self.bodies.clone_from(&source.bodies);
@@ -274,7 +274,7 @@ impl Map {
 
     /// Targets, failures and rejoins of a merge: short lists, merged whole.
     fn merge_lists(&mut self, other: &Map) {
-        self.targets.union_growing(&other.targets);
+        self.targets.union(&other.targets);
         for f in &other.failed {
             self.merge_failure(*f);
         }
@@ -399,21 +399,18 @@ impl Map {
 
     /// Checks a map that came from elsewhere against the grid it claims to
     /// describe, so a malformed message cannot index out of bounds.
-    /// `targets` is the largest number of target ids a map may hold.
+    /// `targets` is the largest number of targets a map may hold.
     pub fn validate(&self, vertices: usize, targets: usize, robots: usize) -> Result<(), String> {
-        let words = |bits: usize| bits.div_ceil(64);
         if self.vertices() != vertices {
             return Err(format!("map sized for another grid (expected {vertices} vertices)"));
         }
-        if self.targets.words().len() > words(targets) {
+        if self.targets.count() > targets {
             return Err(format!("map target set larger than {targets} targets"));
         }
-        let past = |w: &[u64], n: usize| {
-            let (full, rem) = (n / 64, n % 64);
-            (rem > 0 && w.get(full).is_some_and(|&x| x >> rem != 0))
-                || w.iter().skip(full + usize::from(rem > 0)).any(|&x| x != 0)
-        };
-        if self.cells.past_end() || past(self.targets.words(), targets) {
+        if !self.targets.is_canonical() {
+            return Err("map target set not sorted, or repeating a spot".into());
+        }
+        if self.cells.past_end() {
             return Err("map sets a bit past the end".into());
         }
         if self.failed.windows(2).any(|w| w[0].robot >= w[1].robot) || self.alive.windows(2).any(|w| w[0].0 >= w[1].0) {
@@ -505,7 +502,7 @@ mod tests {
         visited: Bitset,
         known: Bitset,
         open: Vec<u8>,
-        targets: &'a Bitset,
+        targets: &'a Spots,
         failed: &'a Vec<Failure>,
         alive: &'a Vec<(RobotId, u32)>,
         bodies: &'a Vec<(VertexId, u32)>,
@@ -514,12 +511,12 @@ mod tests {
 
     #[test]
     fn maps_encode_as_flat_fields_and_round_trip() {
-        let mut m = Map::new(300, 9);
+        let mut m = Map::new(300);
         m.set_visited(3, true);
         m.set_known(299, true);
         m.or_open(7, 0x81);
         m.or_open(299, 0xff);
-        m.targets.set(8);
+        m.targets.insert(crate::spot::Spot { x: 8, y: -3 });
         m.add_failed(2, 50, 1);
         m.revive(1, 3);
         let (mut visited, mut known, mut open) = (Bitset::new(300), Bitset::new(300), vec![0u8; 300]);
@@ -560,7 +557,7 @@ mod tests {
 
     /// Sets on three vertices of a map: a visited and known flag and an edge mask each.
     fn marked(n: usize, marks: &[(usize, u8)]) -> Map {
-        let mut m = Map::new(n, 0);
+        let mut m = Map::new(n);
         mark(&mut m, marks);
         m
     }
@@ -634,7 +631,7 @@ mod tests {
             proptest::prop_assert_eq!(&ab, &check_merge(&wire, &shared.0)?);
             proptest::prop_assert_eq!(&ab, &check_merge(&shared.0, &shared_wire)?);
             // Copying into a map of the same grid or of another.
-            for mut into in [marked(n, &b), Map::new(n + 300, 0), Map::default()] {
+            for mut into in [marked(n, &b), Map::new(n + 300), Map::default()] {
                 into.clone_from(&ab);
                 proptest::prop_assert_eq!(&into, &ab);
                 proptest::prop_assert_eq!(into.cells().unshared(), 0);
@@ -713,7 +710,7 @@ mod tests {
         let maps: Vec<Map> = {
             (0..4u32)
                 .map(|r| {
-                    let mut m = Map::new(grid.len(), 0);
+                    let mut m = Map::new(grid.len());
                     for v in (r * 50..r * 50 + 120).chain([last]) {
                         m.record_sensing(&grid, v, physics(v));
                     }
@@ -744,13 +741,13 @@ mod tests {
         assert_eq!(all.open(0), physics(0) | SENSED);
         drop(one);
         // Outside the scope every new map has a table of its own.
-        assert!(!Map::new(grid.len(), 0).cells().shares_masks(Map::new(grid.len(), 0).cells()));
+        assert!(!Map::new(grid.len()).cells().shares_masks(Map::new(grid.len()).cells()));
     }
 
     #[test]
     fn failures_merge_by_latest_round_and_rejoins_overrule_them() {
-        let mut a = Map::new(10, 0);
-        let mut b = Map::new(10, 0);
+        let mut a = Map::new(10);
+        let mut b = Map::new(10);
         a.add_failed(3, 4, 2);
         b.add_failed(3, 5, 1);
         b.revive(3, 2);
@@ -773,11 +770,12 @@ mod tests {
         ab.merge(&a);
         assert!(ab.failure(3).is_some_and(|f| f.seen), "an unseen copy of the same declaration");
         assert_eq!(ab.failed_now().collect::<Vec<_>>(), vec![(3, 6)]);
-        // Targets grow to the larger set.
-        let mut t = Map::new(10, 0);
-        let mut u = Map::new(10, 0);
-        u.targets.set_growing(70);
+        // Targets grow to the union.
+        let (mut t, mut u) = (Map::new(10), Map::new(10));
+        let s = |x| crate::spot::Spot { x, y: 70 };
+        t.targets.insert(s(1));
+        u.targets.insert(s(2));
         t.merge(&u);
-        assert!(t.targets.get(70));
+        assert_eq!(t.targets.iter().collect::<Vec<_>>(), [s(1), s(2)]);
     }
 }

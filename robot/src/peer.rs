@@ -39,7 +39,6 @@
 //! Why no two robots collide, and what loss does to that, is argued in
 //! ARCHITECTURE.md ("Safety").
 
-use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId};
 use crate::io::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
@@ -48,6 +47,7 @@ use crate::params::{Params, Situation, SlotRule};
 use crate::policy::Policy;
 use crate::protocol::Frame;
 use crate::robot::{Robot, RobotConfig, Sensing, Stop};
+use crate::spot::{Spot, Spots};
 
 mod filter;
 
@@ -208,7 +208,7 @@ pub struct Peer<'g> {
     heard: Vec<Heard>,
     expected: Vec<Expect>,
     /// Targets this robot has flooded (found or relayed).
-    flooded: Bitset,
+    flooded: Spots,
     acks: Vec<RobotId>,
     refusals: Vec<RobotId>,
     /// Adjacent vertices where the sonar finds a robot nobody heard, and
@@ -271,7 +271,7 @@ impl<'g> Peer<'g> {
             stop_flooded: false,
             heard: Vec::with_capacity(16),
             expected: Vec::new(),
-            flooded: Bitset::new(0),
+            flooded: Spots::default(),
             acks: Vec::new(),
             refusals: Vec::new(),
             silent: Vec::new(),
@@ -486,11 +486,8 @@ impl<'g> Peer<'g> {
         let map = Frame::Map { round, from: me, at: tick.at, sent: now, halted, stop: self.stop_known, map };
         self.send(out, map, now);
         if self.cfg.robot.situation == Situation::One {
-            let new: Vec<u32> = tick.targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();
+            let new: Vec<Spot> = tick.targets.iter().copied().filter(|&t| self.flooded.insert(t)).collect();
             if !new.is_empty() {
-                for &t in &new {
-                    self.flooded.set_growing(t as usize);
-                }
                 self.send(out, Frame::Flood { round, from: me, targets: new, stop: false }, now);
             }
         }
@@ -670,13 +667,10 @@ impl<'g> Peer<'g> {
     }
 
     /// A flood: targets and the stop, relayed once, whatever the round.
-    fn on_flood(&mut self, now: Time, targets: &[u32], stop: bool, out: &mut Output<Frame>) {
+    fn on_flood(&mut self, now: Time, targets: &[Spot], stop: bool, out: &mut Output<Frame>) {
         let robot = self.robot.as_mut().expect("checked");
-        let new: Vec<u32> = targets.iter().copied().filter(|&t| !self.flooded.get(t as usize)).collect();
+        let new: Vec<Spot> = targets.iter().copied().filter(|&t| self.flooded.insert(t)).collect();
         robot.learn_targets(&new);
-        for &t in &new {
-            self.flooded.set_growing(t as usize);
-        }
         let new_stop = stop && !self.stop_flooded;
         if new_stop {
             self.stop_known = true;

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use crate::grid::VertexId;
 use crate::io::{Framed, Header, Listen};
 use crate::map::{Map, RobotId};
+use crate::spot::Spot;
 
 /// Robot-to-robot frames, all broadcast to whoever is in radio range. Every
 /// one carries its round, so frames of another round can be told apart and dropped.
@@ -37,7 +38,7 @@ pub enum Frame {
     /// this round (a robot following into that vertex waits for this).
     Commit { round: u32, from: RobotId, moving: bool },
     /// Steps 1 and 8, flooded over several hops: targets found, and the stop.
-    Flood { round: u32, from: RobotId, targets: Vec<u32>, stop: bool },
+    Flood { round: u32, from: RobotId, targets: Vec<Spot>, stop: bool },
     /// The sender has not chosen yet, and still waits for the choices of
     /// robots ahead of it (step 4): sent every half `t_wait` while it
     /// waits, so that robots waiting for its choice in turn know it alive
@@ -71,8 +72,9 @@ impl Frame {
 
     /// Its header ([`encode`] writes it first): the kind ([`KIND_MAP`]..)
     /// and round, and a tag for receive filters: an ack's addressees (bit
-    /// `id % 64` each, [`Listen::bit`]), a flood's targets (bit `t` for
-    /// `t < 63`; bit 63 for a stop or any other target), 0 otherwise.
+    /// `id % 64` each, [`Listen::bit`]), a flood's stop ([`FLOOD_STOP`]),
+    /// 0 otherwise. A flood's targets have no tag: a target is a position,
+    /// and no fixed set of bits could say which ones a robot knows.
     #[inline]
     pub fn header(&self) -> Header {
         let (kind, tag) = match self {
@@ -82,10 +84,7 @@ impl Frame {
                 (KIND_ACK, acked.iter().chain(refused).fold(0, |t, &r| t | Listen::bit(r)))
             }
             Frame::Commit { .. } => (KIND_COMMIT, 0),
-            Frame::Flood { targets, stop, .. } => {
-                let tag = targets.iter().fold(0, |t, &x| t | if x < 63 { 1 << x } else { FLOOD_OTHER });
-                (KIND_FLOOD, if *stop { tag | FLOOD_OTHER } else { tag })
-            }
+            Frame::Flood { stop, .. } => (KIND_FLOOD, if *stop { FLOOD_STOP } else { 0 }),
             Frame::Wait { .. } => (KIND_WAIT, 0),
         };
         Header { kind, round: self.round(), tag }
@@ -112,8 +111,8 @@ pub const KIND_COMMIT: u8 = 3;
 pub const KIND_FLOOD: u8 = 4;
 pub const KIND_WAIT: u8 = 5;
 
-/// A flood's tag bit for a stop, or a target of 63 or more.
-pub const FLOOD_OTHER: u64 = 1 << 63;
+/// A flood's tag bit for the stop it carries.
+pub const FLOOD_STOP: u64 = 1 << 63;
 /// A map's tag bit for the stop it carries (maps are never held by a
 /// receive filter: the bit is for the controller's receiver).
 pub const MAP_STOP: u64 = 1;
@@ -149,12 +148,12 @@ impl Framed for Rc<[u8]> {
         header_of(self)
     }
 
-    /// A map says so in its header; a flood whose header may hold a stop
-    /// is decoded (floods are small). Bytes that do not decode carry none.
+    /// A map or a flood says so in its header, checked by decoding the
+    /// flood (floods are small). Bytes that do not decode carry none.
     fn carries_stop(&self) -> bool {
         match header_of(self) {
             Some(h) if h.kind == KIND_MAP => h.tag & MAP_STOP != 0,
-            Some(h) if h.kind == KIND_FLOOD && h.tag & FLOOD_OTHER != 0 => postcard::take_from_bytes::<Header>(self)
+            Some(h) if h.kind == KIND_FLOOD && h.tag & FLOOD_STOP != 0 => postcard::take_from_bytes::<Header>(self)
                 .and_then(|(_, rest)| postcard::from_bytes::<Frame>(rest))
                 .is_ok_and(|f| f.carries_stop()),
             _ => false,
@@ -164,7 +163,7 @@ impl Framed for Rc<[u8]> {
 
 /// Robot ids are below this (a robot does not know the team size).
 pub const MAX_ROBOTS: usize = u16::MAX as usize;
-/// Target ids are below this in situation 2 (a robot does not know how many).
+/// A frame holds at most this many targets in situation 2 (a robot does not know how many).
 pub const MAX_TARGETS: usize = 1 << 20;
 
 /// The sizes a frame must fit. A robot does not know the team size or (in
@@ -172,7 +171,7 @@ pub const MAX_TARGETS: usize = 1 << 20;
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
     pub vertices: usize,
-    /// Target ids are below this.
+    /// A frame holds at most this many targets.
     pub targets: usize,
     /// Robot ids are below this.
     pub robots: usize,
@@ -246,8 +245,8 @@ pub fn check(f: &Frame, limits: &Limits) -> Result<(), DecodeError> {
         }
         Frame::Commit { .. } | Frame::Wait { .. } => {}
         Frame::Flood { targets, .. } => {
-            for &t in targets {
-                in_range("target", t as usize, limits.targets)?;
+            if targets.len() > limits.targets {
+                return Err(DecodeError::Range(format!("{} targets, more than {}", targets.len(), limits.targets)));
             }
         }
     }
@@ -261,12 +260,16 @@ mod tests {
 
     const LIMITS: Limits = Limits { vertices: 100, targets: 9, robots: 13 };
 
+    fn spot(x: i32) -> Spot {
+        Spot { x, y: -x }
+    }
+
     fn a_map() -> Map {
-        let mut m = Map::new(100, 9);
+        let mut m = Map::new(100);
         m.set_visited(3, true);
         m.set_known(4, true);
         m.or_open(3, 0x81);
-        m.targets.set(8);
+        m.targets.insert(spot(8));
         m.add_failed(2, 50, 1);
         m
     }
@@ -277,7 +280,7 @@ mod tests {
             Frame::Choice { round: 5, from: 0, at: 6, next: 7, accounted: vec![1, 12] },
             Frame::Ack { round: 5, from: 3, acked: vec![0, 4], refused: vec![9] },
             Frame::Commit { round: 6, from: 2, moving: true },
-            Frame::Flood { round: 3, from: 1, targets: vec![0, 8], stop: false },
+            Frame::Flood { round: 3, from: 1, targets: vec![spot(0), spot(8)], stop: false },
             Frame::Wait { round: 5, from: 7 },
         ]
     }
@@ -297,9 +300,9 @@ mod tests {
             assert_eq!(header_of(&encode(&f)), Some(f.header()), "{f:?}");
         }
         assert_eq!(frames()[2].header().tag, Listen::bit(0) | Listen::bit(4) | Listen::bit(9), "an ack's addressees");
-        assert_eq!(frames()[4].header().tag, 1 | 1 << 8, "a flood's targets");
-        let f = Frame::Flood { round: 70_000, from: 1, targets: vec![2, 63], stop: false };
-        assert_eq!(f.header(), Header { kind: KIND_FLOOD, round: 70_000, tag: 1 << 2 | FLOOD_OTHER });
+        assert_eq!(frames()[4].header().tag, 0, "a flood's targets have no tag");
+        let f = Frame::Flood { round: 70_000, from: 1, targets: vec![spot(2)], stop: true };
+        assert_eq!(f.header(), Header { kind: KIND_FLOOD, round: 70_000, tag: FLOOD_STOP });
         assert_eq!(header_of(&[]), None);
         assert_eq!(header_of(&[2, 1]), None, "no tag");
     }
@@ -309,8 +312,7 @@ mod tests {
         let stop_map = Frame::Map { round: 4, from: 2, at: 9, sent: 0, halted: true, stop: true, map: a_map() };
         let map = Frame::Map { round: 4, from: 2, at: 9, sent: 0, halted: true, stop: false, map: a_map() };
         let stop_flood = Frame::Flood { round: 3, from: 1, targets: vec![], stop: true };
-        // Its header's tag bit 63 says "a stop or a target of 63 or more".
-        let far_target = Frame::Flood { round: 3, from: 1, targets: vec![70], stop: false };
+        let far_target = Frame::Flood { round: 3, from: 1, targets: vec![spot(70)], stop: false };
         let choice = Frame::Choice { round: 1, from: 1, at: 2, next: 3, accounted: vec![] };
         for (f, stop) in [(stop_map, true), (map, false), (stop_flood, true), (far_target, false), (choice, false)] {
             let bytes: Rc<[u8]> = encode(&f).into();
@@ -329,17 +331,28 @@ mod tests {
         assert!(matches!(decode(&bytes, &LIMITS), Err(DecodeError::Format(e)) if e.contains("does not match")));
     }
 
+    /// A map holding the spots `xs` as given, in order and with repeats,
+    /// as a malformed frame may.
+    fn with_targets(xs: impl IntoIterator<Item = i32>) -> Map {
+        let spots: Vec<Spot> = xs.into_iter().map(spot).collect();
+        let mut m = Map::new(100);
+        m.targets = postcard::from_bytes(&postcard::to_allocvec(&spots).unwrap()).unwrap();
+        m
+    }
+
     #[test]
     fn out_of_range_and_trailing_bytes_are_refused() {
         let bad = [
             Frame::Flood { round: 0, from: 13, targets: vec![], stop: false },
-            Frame::Flood { round: 0, from: 1, targets: vec![9], stop: false },
+            Frame::Flood { round: 0, from: 1, targets: (0..10).map(spot).collect(), stop: false },
             Frame::Choice { round: 0, from: 1, at: 0, next: 100, accounted: vec![] },
             Frame::Choice { round: 0, from: 1, at: 0, next: 1, accounted: vec![13] },
             Frame::Ack { round: 0, from: 1, acked: vec![], refused: vec![13] },
             Frame::Wait { round: 0, from: 13 },
-            Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: Map::new(101, 9) },
-            Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: Map::new(100, 70) },
+            Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: Map::new(101) },
+            Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: with_targets(0..10) },
+            Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: with_targets([2, 1]) },
+            Frame::Map { round: 0, from: 1, at: 0, sent: 0, halted: false, stop: false, map: with_targets([1, 1]) },
         ];
         for f in bad {
             assert!(matches!(decode(&encode(&f), &LIMITS), Err(DecodeError::Range(_))), "{f:?}");

@@ -27,6 +27,7 @@ use crate::map::{Map, RobotId, SENSED};
 use crate::params::{Order, Situation};
 use crate::policy::Policy;
 use crate::rng::robot_rng;
+use crate::spot::Spot;
 
 /// What a robot needs to know about itself and the run.
 #[derive(Clone, Copy, Debug)]
@@ -75,8 +76,8 @@ pub struct Sensing<'a> {
     pub open: u8,
     /// Adjacency slots whose vertex holds another robot (sonar).
     pub occupied: u8,
-    /// Targets within `r_st` (laser).
-    pub targets: &'a [u32],
+    /// Targets within `r_st`, each where it is (laser).
+    pub targets: &'a [Spot],
 }
 
 /// Why a robot stops.
@@ -189,7 +190,7 @@ impl<'g> Robot<'g> {
             cfg,
             pos: start,
             round: 0,
-            map: Map::new(grid.len(), cfg.targets_total),
+            map: Map::new(grid.len()),
             nbrs: Vec::with_capacity(16),
             open_now: 0,
             occupied_now: 0,
@@ -323,9 +324,9 @@ impl<'g> Robot<'g> {
     }
 
     /// Targets others found (a flood, step 1).
-    pub fn learn_targets(&mut self, targets: &[u32]) {
+    pub fn learn_targets(&mut self, targets: &[Spot]) {
         for &t in targets {
-            self.map.targets.set_growing(t as usize);
+            self.map.targets.insert(t);
         }
     }
 
@@ -773,7 +774,7 @@ mod tests {
         assert!(r.receive_choice(1, a, w));
         assert!(r.map().visited(w) && r.map().known(w));
         // A map comes in whose sender sensed at `a`, edge to `w` open.
-        let mut m = Map::new(g.len(), 0);
+        let mut m = Map::new(g.len());
         m.record_sensing(g, a, 1);
         assert!(r.receive_map(2, g.neighbors(v)[3], &m, false));
         // Robot 1 never went: the claim goes, but `w` stays known, unvisited.

@@ -192,7 +192,7 @@ pub struct WireLimits {
     pub robots: usize,
     /// Vertex ids are below this.
     pub vertices: usize,
-    /// Target ids are below this.
+    /// A tick holds at most this many targets.
     pub targets: usize,
     /// Bytes of one radio frame, at most.
     pub frame_bytes: usize,
@@ -280,10 +280,7 @@ fn check_wake(w: &Wake, l: &WireLimits) -> Result<(), WireError> {
     }
     if let Some(t) = &w.tick {
         range("vertex", t.at as usize, l.vertices)?;
-        at_most("targets", t.targets.len(), l.items)?;
-        for &k in &t.targets {
-            range("target", k as usize, l.targets)?;
-        }
+        at_most("targets", t.targets.len(), l.targets.min(l.items))?;
     }
     Ok(())
 }
@@ -429,6 +426,7 @@ impl Assembler {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spot::Spot;
     use proptest::prelude::*;
 
     const L: WireLimits = WireLimits { robots: 13, vertices: 100, targets: 9, frame_bytes: 1000, items: 50 };
@@ -437,7 +435,14 @@ mod tests {
         ToAgent::Wake(Wake {
             seq: 7,
             now: 1_500_000,
-            tick: Some(Tick { round: 3, start: 1_000_000, at: 99, open: 0x3f, occupied: 1, targets: vec![0, 8] }),
+            tick: Some(Tick {
+                round: 3,
+                start: 1_000_000,
+                at: 99,
+                open: 0x3f,
+                occupied: 1,
+                targets: vec![Spot { x: 0, y: 1 }, Spot { x: 8, y: -2 }],
+            }),
             frames: vec![WireFrame { from: 12, at: 1_400_000, bytes: Bytes(vec![1, 2, 3]) }],
         })
     }
@@ -515,7 +520,7 @@ mod tests {
         w.frames[0].from = 13;
         assert!(matches!(decode_to_agent(&encode_to_agent(&ToAgent::Wake(w.clone())), &L), Err(WireError::Range(_))));
         w.frames[0].from = 0;
-        w.tick.as_mut().unwrap().targets.push(9);
+        w.tick.as_mut().unwrap().targets.extend((0..8).map(|x| Spot { x, y: 0 }));
         assert!(matches!(decode_to_agent(&encode_to_agent(&ToAgent::Wake(w)), &L), Err(WireError::Range(_))));
         let ToWorld::Output(mut o) = output() else { unreachable!() };
         o.motor = Some((Motor::Go(100), 0));

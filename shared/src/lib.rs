@@ -11,7 +11,8 @@
 //! world; they are re-exported here under their old names.
 
 pub use gridswarm_robot::{
-    agreement, bitset, choice, geometry, grid, lattice, map, params, peer, policy, protocol, rng, robot, setup, wire,
+    agreement, bitset, choice, geometry, grid, lattice, map, params, peer, policy, protocol, rng, robot, setup, spot,
+    wire,
 };
 
 /// The transports are the crate `gridswarm_transport` (feature `ipc`),

@@ -14,6 +14,7 @@ use crate::geometry::{crosses_ray, point_segment_distance, segment_segment_dista
 use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::params::Params;
+use crate::spot::Spot;
 
 #[derive(Clone, Debug)]
 pub struct World {
@@ -170,6 +171,12 @@ impl World {
     /// Targets within `r_st` of vertex `v`.
     pub fn targets_near(&self, v: VertexId) -> &[u32] {
         &self.targets_near[v as usize]
+    }
+
+    /// Where target `t` is, as a robot's laser reads it: robots never see
+    /// the world's target ids.
+    pub fn spot(&self, t: u32) -> Spot {
+        Spot::at(self.targets[t as usize], self.params.a)
     }
 
     /// Accessible vertices, in id order.

@@ -20,6 +20,7 @@ use gridswarm::policy::Policy;
 use gridswarm::protocol::{self, Frame, Limits};
 use gridswarm::scenario::{limits, Scenario};
 use gridswarm::sim::{Listen, Motor, Note, Tick};
+use gridswarm::spot::Spot;
 use gridswarm::wire::{
     self, AgentOutput, Assembler, Bytes, Hello, ToAgent, ToWorld, Verdict, Wake, WireFrame, WireLimits, WireSend,
 };
@@ -292,20 +293,27 @@ const WIRE_LIMITS: WireLimits = WireLimits { robots: 13, vertices: 100, targets:
 
 fn map() -> impl Strategy<Value = Map> {
     let ids = || prop::collection::vec(0usize..100, 0..10);
-    (ids(), ids(), prop::collection::vec((0usize..100, any::<u8>()), 0..10), prop::collection::vec(0usize..9, 0..4))
+    (ids(), ids(), prop::collection::vec((0usize..100, any::<u8>()), 0..10), prop::collection::vec(spot(), 0..4))
         .prop_flat_map(|(visited, known, open, targets)| {
             prop::collection::vec((0u16..13, 0u32..100, any::<u32>()), 0..3).prop_map(move |failed| {
-                let mut m = Map::new(100, 9);
+                let mut m = Map::new(100);
                 visited.iter().for_each(|&v| m.set_visited(v as u32, true));
                 known.iter().for_each(|&v| m.set_known(v as u32, true));
                 open.iter().for_each(|&(v, b)| m.or_open(v as u32, b));
-                targets.iter().for_each(|&t| m.targets.set(t));
+                targets.iter().for_each(|&t| {
+                    m.targets.insert(t);
+                });
                 for &(r, at, round) in &failed {
                     m.add_failed(r, at, round);
                 }
                 m
             })
         })
+}
+
+/// Any spot a laser may report.
+fn spot() -> impl Strategy<Value = Spot> {
+    (any::<i32>(), any::<i32>()).prop_map(|(x, y)| Spot { x, y })
 }
 
 fn robots() -> impl Strategy<Value = Vec<u16>> {
@@ -333,7 +341,7 @@ fn frame() -> impl Strategy<Value = Frame> {
             refused
         }),
         (round(), from(), any::<bool>()).prop_map(|(round, from, moving)| Frame::Commit { round, from, moving }),
-        (round(), from(), prop::collection::vec(0u32..9, 0..5), any::<bool>())
+        (round(), from(), prop::collection::vec(spot(), 0..5), any::<bool>())
             .prop_map(|(round, from, targets, stop)| Frame::Flood { round, from, targets, stop }),
         (round(), from()).prop_map(|(round, from)| Frame::Wait { round, from }),
     ]
@@ -345,7 +353,7 @@ fn bytes(max: usize) -> impl Strategy<Value = Bytes> {
 
 /// Any world-to-agent message inside [`WIRE_LIMITS`].
 fn to_agent() -> impl Strategy<Value = ToAgent> {
-    let tick = (any::<u32>(), any::<u64>(), 0u32..100, any::<u8>(), any::<u8>(), prop::collection::vec(0u32..9, 0..5))
+    let tick = (any::<u32>(), any::<u64>(), 0u32..100, any::<u8>(), any::<u8>(), prop::collection::vec(spot(), 0..5))
         .prop_map(|(round, start, at, open, occupied, targets)| Tick { round, start, at, open, occupied, targets });
     let frames = prop::collection::vec(
         (0u16..13, any::<u64>(), bytes(200)).prop_map(|(from, at, bytes)| WireFrame { from, at, bytes }),

@@ -41,7 +41,7 @@ fn slot(grid: &Grid, v: VertexId, d: usize) -> VertexId {
 }
 
 fn visited_map(grid: &Grid, vs: &[VertexId]) -> Map {
-    let mut m = Map::new(grid.len(), 0);
+    let mut m = Map::new(grid.len());
     for &v in vs {
         m.record_sensing(grid, v, ALL_OPEN);
     }
@@ -102,14 +102,14 @@ fn rule_2_moves_away_from_the_mean() {
     for seed in 0..50 {
         let mut r = robot(g, Policy::Repulsive, seed, 0, v);
         r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
-        r.receive_map(1, at(g, -2, 0), &Map::new(g.len(), 0), false);
+        r.receive_map(1, at(g, -2, 0), &Map::new(g.len()), false);
         assert!(r.ready(), "a lower-priority neighbour is not waited for");
         assert_eq!(r.choose(), Some(at(g, 1, 0)));
     }
     // A higher-priority neighbour two steps right that stays: go left.
     let mut r = robot(g, Policy::Repulsive, 3, 0, v);
     r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
-    r.receive_map(1, at(g, 2, 0), &Map::new(g.len(), 0), false);
+    r.receive_map(1, at(g, 2, 0), &Map::new(g.len()), false);
     assert!(!r.ready(), "waits for the higher-priority neighbour");
     assert_eq!(r.choose(), None);
     r.receive_choice(1, at(g, 2, 0), at(g, 2, 0));
@@ -126,7 +126,7 @@ fn rule_2_ties_are_drawn_uniformly() {
     for seed in 0..100 {
         let mut r = robot(g, Policy::Repulsive, seed, 0, v);
         r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
-        r.receive_map(1, at(g, -1, 2), &Map::new(g.len(), 0), false);
+        r.receive_map(1, at(g, -1, 2), &Map::new(g.len()), false);
         r.receive_choice(1, at(g, -1, 2), at(g, -1, 2));
         seen.insert(r.choose().unwrap());
     }
@@ -144,8 +144,8 @@ fn earlier_choices_exclude_vertices_and_colliding_moves() {
     for seed in 0..100 {
         let mut r = robot(g, Policy::Sequential, seed, 0, v);
         r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0b00_1001, targets: &[] });
-        r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
-        r.receive_map(2, left, &Map::new(g.len(), 0), false);
+        r.receive_map(1, j_at, &Map::new(g.len()), false);
+        r.receive_map(2, left, &Map::new(g.len()), false);
         r.receive_choice(1, j_at, j_to);
         let c = r.choose().unwrap();
         assert_ne!(c, j_to, "chosen by an earlier robot");
@@ -157,7 +157,7 @@ fn earlier_choices_exclude_vertices_and_colliding_moves() {
     for seed in 0..100 {
         let mut r = robot(g, Policy::Sequential, seed, 0, v);
         r.sense(0, &Sensing { open: 0b00_0001, occupied: 0b00_0001, targets: &[] });
-        r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
+        r.receive_map(1, j_at, &Map::new(g.len()), false);
         r.receive_choice(1, j_at, at(g, 2, 0));
         ok |= r.choose() == Some(j_at);
     }
@@ -173,7 +173,7 @@ fn a_failed_neighbour_is_not_waited_for_and_stays_blocked() {
     for seed in 0..50 {
         let mut r = robot(g, Policy::Repulsive, seed, 0, v);
         r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0b00_0001, targets: &[] });
-        r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
+        r.receive_map(1, j_at, &Map::new(g.len()), false);
         assert!(!r.ready(), "waits for the higher-priority neighbour's choice");
         r.declare_failed(1, j_at, 0);
         assert!(r.ready());
@@ -232,7 +232,7 @@ fn a_halted_neighbour_is_not_waited_for_and_never_vacates() {
     for seed in 0..50 {
         let mut r = robot(g, Policy::Repulsive, seed, 0, v);
         r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0b00_0001, targets: &[] });
-        r.receive_map(1, j_at, &Map::new(g.len(), 0), true);
+        r.receive_map(1, j_at, &Map::new(g.len()), true);
         assert!(r.ready());
         assert_ne!(r.choose(), Some(j_at));
     }
@@ -241,7 +241,7 @@ fn a_halted_neighbour_is_not_waited_for_and_never_vacates() {
 /// A map in which robots stood on `stood` and sensed only the edges
 /// between listed vertices (`edges`, both ways).
 fn corridor_map(grid: &Grid, stood: &[VertexId], edges: &[(VertexId, VertexId)]) -> Map {
-    let mut m = Map::new(grid.len(), 0);
+    let mut m = Map::new(grid.len());
     for &v in stood {
         let mut open = 0u8;
         for &(a, b) in edges {
@@ -347,7 +347,7 @@ fn a_claim_dropped_keeps_what_a_map_merged_over_it_sensed() {
     let w = world();
     let g = &w.grid;
     let (v, j_at, j_to, t_at) = (at(g, 0, 0), at(g, 2, 0), at(g, 3, 0), at(g, 4, 0));
-    let mut t = Map::new(g.len(), 0);
+    let mut t = Map::new(g.len());
     t.record_sensing(g, t_at, ALL_OPEN);
     let mut r = robot(g, Policy::Sequential, 1, 0, v);
     r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
@@ -373,7 +373,7 @@ fn a_heard_choice_marks_its_vertex_visited_for_the_round() {
         cfg.choices_update_maps = on;
         let mut r = Robot::new(g, cfg, v);
         r.sense(0, &Sensing { open: ALL_OPEN, occupied: 0, targets: &[] });
-        r.receive_map(1, j_at, &Map::new(g.len(), 0), false);
+        r.receive_map(1, j_at, &Map::new(g.len()), false);
         r.receive_choice(1, j_at, j_to);
         assert_eq!(r.map().visited(j_to), on, "marked only with the reading on");
         r.choose().unwrap();

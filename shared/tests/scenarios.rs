@@ -312,6 +312,19 @@ fn target_outside_ad() {
     assert!(parse_err(&out).message.contains("outside the area"));
 }
 
+/// A laser reads where a target is, not which one it is: two targets
+/// closer than its resolution would be one to the robots.
+#[test]
+fn two_targets_on_one_spot_are_refused() {
+    let same = BASE.replace("[8, 8]]", "[8, 8], [8.0004, 8]]");
+    let e = parse_err(&same);
+    assert_eq!(e.field, "targets[2]");
+    assert!(e.message.contains("where targets[1] is"), "{e}");
+    let apart = BASE.replace("[8, 8]]", "[8, 8], [8.01, 8]]");
+    let s = Scenario::parse(&apart, "ok.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.targets.len(), 3);
+}
+
 #[test]
 fn bad_counts_and_starts() {
     let e = parse_err(&BASE.replace("name = \"t\"", "name = \"t\"\nsituation = 3"));

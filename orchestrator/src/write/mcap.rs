@@ -205,8 +205,12 @@ impl<'w> Recorder<'w> {
 
 impl Watch<Rc<Frame>> for Recorder<'_> {
     fn ticked(&mut self, robot: usize, tick: &Tick) {
+        // The laser reads positions; the recorder, outside the robots,
+        // names the world's target at each.
+        let world = self.world;
+        let id = |s| (0..world.targets.len()).find(|&k| world.spot(k as u32) == s);
         let fresh: Vec<usize> =
-            tick.targets.iter().map(|&k| k as usize).filter(|&k| self.found.get(k) == Some(&None)).collect();
+            tick.targets.iter().filter_map(|&s| id(s)).filter(|&k| self.found.get(k) == Some(&None)).collect();
         if fresh.is_empty() {
             return;
         }

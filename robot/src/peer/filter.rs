@@ -4,7 +4,7 @@
 
 use super::Peer;
 use crate::io::Listen;
-use crate::protocol::{FLOOD_OTHER, KIND_ACK, KIND_COMMIT, KIND_FLOOD, KIND_WAIT};
+use crate::protocol::{KIND_ACK, KIND_COMMIT, KIND_WAIT};
 use crate::robot::Robot;
 
 impl Peer<'_> {
@@ -14,9 +14,7 @@ impl Peer<'_> {
     /// (an ack changes nothing but whether the sender acked or refused
     /// this robot, which it reads only once it chose); commits, unless,
     /// after it chose, from a robot it heard on the vertex it chose (the
-    /// only commit it reads); floods that carry only targets it has
-    /// flooded already and no stop (it would learn and relay nothing);
-    /// waits (what it reads of one is its arrival time, and only at its
+    /// only commit it reads); waits (what it reads of one is its arrival time, and only at its
     /// deadline).
     /// Reading a held frame later, before the frames that came after it,
     /// leaves it as reading it on arrival would have: the radio hands them
@@ -24,7 +22,7 @@ impl Peer<'_> {
     /// nothing new to read could not have made it act either: its choice
     /// depends on maps and choices only, and every time it compares `now`
     /// with is one of its alarms. Maps, choices and frames of another
-    /// round always wake it.
+    /// round, and floods, always wake it.
     pub(super) fn filter(&self) -> Listen {
         let (mut except, mut tags) = ([0; 8], [0; 8]);
         if let Some(c) = self.robot.as_ref().and_then(Robot::choice) {
@@ -33,10 +31,9 @@ impl Peer<'_> {
                 except[KIND_COMMIT as usize] |= Listen::bit(h.id);
             }
         }
-        // Targets below 63 are their own tag bits: the bitset's first word.
-        let flooded = self.flooded.words().first().copied().unwrap_or(0) & !FLOOD_OTHER;
-        tags[KIND_FLOOD as usize] = !flooded;
-        let hold = 1 << KIND_ACK | 1 << KIND_COMMIT | 1 << KIND_FLOOD | 1 << KIND_WAIT;
+        // Floods always wake it: their targets are positions, and a header
+        // cannot say whether they are ones it knows. They are rare.
+        let hold = 1 << KIND_ACK | 1 << KIND_COMMIT | 1 << KIND_WAIT;
         Listen { on: true, round: self.round, hold, except, tags }
     }
 }

@@ -11,6 +11,7 @@ use crate::geometry::{Circle, Point, Polygon, Shape};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
 use crate::params::{Order, Params, RuCollisions, Situation, SlotRule};
+use crate::spot::{Spot, STEPS};
 
 /// A point as written: `[x, y]`, exactly two numbers. A plain `[f64; 2]`
 /// took the first two elements of any longer array (`[10, 0, "x"]`).
@@ -523,6 +524,12 @@ impl RawScenario {
             }
             if let Some(j) = near.at(p).find(|&j| obstacles[j].contains(p)) {
                 return Err(ctx.err(field, format!("{} is inside obstacles[{j}], so not in Ad", fmt_xy(p))));
+            }
+            // Robots tell targets apart by where their lasers see them.
+            if let Some(j) = targets.iter().position(|&q| Spot::at(q, params.a) == Spot::at(p, params.a)) {
+                let m =
+                    format!("{} is where targets[{j}] is, within a / {}: a laser reads them as one", fmt_xy(p), STEPS);
+                return Err(ctx.err(field, m));
             }
             targets.push(p);
         }

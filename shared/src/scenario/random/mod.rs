@@ -43,6 +43,7 @@ use crate::lattice::LatticeKind;
 use crate::lfp::LfpParams;
 use crate::params::{Params, Situation};
 use crate::rng::derive;
+use crate::spot::Spot;
 use crate::world::World;
 
 /// Attempts before giving up. At the defaults the first attempt passes in
@@ -137,6 +138,9 @@ fn attempt(spec: &Spec, rng: &mut ChaCha8Rng) -> Result<Scenario, String> {
     let bare = sc.world();
     let starts = sc.start_vertices(&bare, spec.robots).map_err(|e| e.message)?;
     sc.targets = targets(rng, &bare, &starts, spec.targets);
+    if sc.targets.len() < spec.targets {
+        return Err(format!("only {} targets found places of their own", sc.targets.len()));
+    }
     let report = assumptions::check(&sc, &sc.world(), &starts);
     let mut failing: Vec<&str> = report.failures().map(|c| c.id).collect();
     let mut wanted: Vec<&str> = spec.breaks.map_or(&[][..], Break::failing).to_vec();
@@ -165,7 +169,13 @@ fn targets(rng: &mut ChaCha8Rng, w: &World, starts: &[VertexId], n: usize) -> Ve
         return out;
     }
     const CANDIDATES: usize = 8;
-    while out.len() < n {
+    let spot = |p: Point| Spot::at(p, w.params.a);
+    // A laser tells targets apart by position only: a draw on the spot of
+    // one placed is drawn again (a map too small to hold `n` apart is
+    // left short, and `attempt` draws another map).
+    let mut draws = 0;
+    while out.len() < n && draws < 1000 * n {
+        draws += 1;
         let far = |p: &Point| out.iter().map(|t| (t - p).norm()).fold(f64::INFINITY, f64::min);
         let v = (0..CANDIDATES)
             .map(|_| pool[rng.random_range(0..pool.len())])
@@ -175,7 +185,10 @@ fn targets(rng: &mut ChaCha8Rng, w: &World, starts: &[VertexId], n: usize) -> Ve
         let d = rng.random_range(0.0..=0.5 * w.params.a);
         let moved = v + Vector::new(t.cos(), t.sin()) * d;
         let moved = Point::new(shapes::mm(moved.x), shapes::mm(moved.y));
-        out.push(if w.in_ad(moved) { moved } else { Point::new(shapes::mm(v.x), shapes::mm(v.y)) });
+        let p = if w.in_ad(moved) { moved } else { Point::new(shapes::mm(v.x), shapes::mm(v.y)) };
+        if !out.iter().any(|&q| spot(q) == spot(p)) {
+            out.push(p);
+        }
     }
     out
 }

@@ -399,7 +399,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
 
     fn tick(&mut self, r: usize) -> Tick {
         let (open, occupied) = self.referee.sonar(r);
-        let targets = self.referee.laser(r).to_vec();
+        let world = self.world;
+        let targets = self.referee.laser(r).iter().map(|&t| world.spot(t)).collect();
         let tick =
             Tick { round: self.round, start: self.slot_start, at: self.referee.position(r), open, occupied, targets };
         if let Some(w) = self.watch.as_deref_mut() {
