@@ -9,7 +9,10 @@
 //! perfect and slow robots dropped, and RU left out (its robots are
 //! particles, with no failure detection to speak of); runs whose twin does
 //! not end are left out and counted. Prints the ratios' quantiles, by
-//! scenario and overall, and the worst cases with their reproducers.
+//! scenario and overall, and the worst cases with their reproducers; and
+//! the same with every `cut_off` run counted only until its median
+//! survivor's last move (from the trajectories): how much of the tail is
+//! the wait for the last survivor to halt (BENCHMARKS.md).
 use gridswarm::policy::Policy;
 use gridswarm::sim::{FaultKind, Radio};
 use gridswarm::vopr::{self, Case, Worlds};
@@ -21,6 +24,8 @@ struct Row {
     rounds: u32,
     twin: u32,
     survivors_twin: u32,
+    /// `cut_off` runs: the round after the median survivor's last move.
+    median_halt: Option<u32>,
     command: String,
 }
 
@@ -46,7 +51,9 @@ fn main() {
         if c.faults.is_empty() {
             continue;
         }
+        case.config.record_trajectories = true;
         let faulty = worlds.run(&case);
+        case.config.record_trajectories = false;
         let Some(twin) = fault_free(&worlds, &case, case.robots) else {
             twin_endless += 1;
             continue;
@@ -57,13 +64,16 @@ fn main() {
             continue;
         };
         let (scenario, ended_by, rounds) = (case.scenario, faulty.protocol.ended_by.clone(), faulty.rounds);
-        rows.push(Row { scenario, ended_by, rounds, twin, survivors_twin, command: case.command() });
+        let median_halt = (ended_by == "cut_off").then(|| median_last_move(&case, &faulty.trajectories));
+        rows.push(Row { scenario, ended_by, rounds, twin, survivors_twin, median_halt, command: case.command() });
     }
     println!("fault-free twins that did not end (cases left out): {twin_endless}");
     let full = |r: &Row| r.rounds as f64 / r.twin.max(1) as f64;
     let survivors = |r: &Row| r.rounds as f64 / r.survivors_twin.max(1) as f64;
     table("rounds / fault-free twin's", &rows, full);
     table("rounds / survivors' twin's", &rows, survivors);
+    let median = |r: &Row| r.median_halt.unwrap_or(r.rounds) as f64 / r.survivors_twin.max(1) as f64;
+    table("rounds / survivors' twin's, cut_off runs until their median survivor's last move", &rows, median);
     rows.sort_by(|x, y| survivors(x).total_cmp(&survivors(y)));
     for r in rows.iter().rev().take(5) {
         println!(
@@ -76,6 +86,22 @@ fn main() {
             r.command
         );
     }
+}
+
+/// The round after the median survivor's last move: robots that crash,
+/// or freeze and never thaw, are not survivors.
+fn median_last_move(case: &Case, traj: &[Vec<gridswarm::outcome::Pose>]) -> u32 {
+    let faults = &case.config.faults;
+    let gone = |r: usize| {
+        let last = faults.iter().filter(|f| f.robot == r).max_by_key(|f| (f.round, f.offset));
+        last.is_some_and(|f| f.kind != FaultKind::Thaw)
+    };
+    let mut last: Vec<u32> = (0..traj.len())
+        .filter(|&r| !gone(r))
+        .map(|r| (1..traj[r].len()).filter(|&k| traj[r][k].vertex != traj[r][k - 1].vertex).max().unwrap_or(0) as u32)
+        .collect();
+    last.sort();
+    last.get(last.len() / 2).map_or(0, |&k| k + 1)
 }
 
 /// The rounds of `case` without faults, with `robots` robots, if it ends.
