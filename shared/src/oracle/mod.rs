@@ -12,10 +12,11 @@
 //! - **Execution** ([`exec`]): real trajectories, one traversable edge per
 //!   robot per round, all robots at once. Collisions are avoided in the
 //!   plan's execution by waiting a round (robots kept waiting, then those
-//!   with the most left, go first), with detours, and robots in the way
-//!   stepping aside; a robot blocked for 20 rounds moves anyway and that
-//!   counts as a collision, costing no time (none on the built-in maps in
-//!   the tests).
+//!   with the most left, go first), with detours, robots in the way
+//!   stepping aside, and a robot blocked for 20 rounds by another trading
+//!   the rest of its route with it; only a robot blocked for 100 rounds
+//!   would move anyway, counted as a collision (none in the tests' runs on
+//!   the built-in and random maps).
 //! - **Time**: motion only, per the params' move model as the world charges
 //!   it: a round lasts `t_trans` if any robot translates (or waits for
 //!   another), plus `t_rot` if any robot turns; no radio protocol, no
