@@ -64,31 +64,48 @@ pub(super) struct Exec<'a> {
     pub visited: Bitset,
 }
 
+/// A robot at its route's start, about to follow it.
+fn walker(d: &Dist, route: Route, heading: Option<(i32, i32)>) -> Walker {
+    let mut tail = vec![0u32; route.stops.len()];
+    for p in (0..route.stops.len().saturating_sub(1)).rev() {
+        tail[p] = tail[p + 1] + d.get(route.stops[p], route.stops[p + 1]);
+    }
+    Walker {
+        at: route.start,
+        heading,
+        route,
+        next: 0,
+        tail,
+        blocked: 0,
+        best: u32::MAX,
+        stalled: 0,
+        detour: Vec::new(),
+    }
+}
+
 impl<'a> Exec<'a> {
     pub fn new(world: &'a World, d: &'a Dist, routes: Vec<Route>) -> Self {
         let mut visited = Bitset::new(world.grid.len());
-        let walkers = routes
-            .into_iter()
-            .map(|route| {
-                visited.set(d.verts[route.start as usize] as usize);
-                let mut tail = vec![0u32; route.stops.len()];
-                for p in (0..route.stops.len().saturating_sub(1)).rev() {
-                    tail[p] = tail[p + 1] + d.get(route.stops[p], route.stops[p + 1]);
-                }
-                Walker {
-                    at: route.start,
-                    heading: None,
-                    route,
-                    next: 0,
-                    tail,
-                    blocked: 0,
-                    best: u32::MAX,
-                    stalled: 0,
-                    detour: Vec::new(),
-                }
-            })
-            .collect();
+        for r in &routes {
+            visited.set(d.verts[r.start as usize] as usize);
+        }
+        let walkers = routes.into_iter().map(|route| walker(d, route, None)).collect();
         Exec { world, d, walkers, visited }
+    }
+
+    /// New routes from where the robots stand (route `k`'s start is robot
+    /// `k`'s vertex), headings and visits kept.
+    pub fn replan(&mut self, routes: Vec<Route>) {
+        let headings: Vec<_> = self.walkers.iter().map(|w| w.heading).collect();
+        self.walkers = routes.into_iter().zip(headings).map(|(r, h)| walker(self.d, r, h)).collect();
+        for k in 0..self.walkers.len() {
+            self.skip_visited(k);
+        }
+    }
+
+    /// Robot `k`'s vertex, compact.
+    pub fn at(&self, k: usize) -> u32 {
+        self.walkers[k].at
     }
 
     pub fn position(&self, k: usize) -> VertexId {

@@ -24,6 +24,7 @@
 //!   last target is detected (within `r_st` of a robot's vertex), situation
 //!   2 when every vertex of `Va` has been visited.
 
+mod cover;
 mod exec;
 mod plan;
 #[cfg(test)]
@@ -98,15 +99,26 @@ pub fn run_prepared(ow: &OracleWorld, starts: &[VertexId], cfg: &RunConfig) -> R
     let d = ow.table(&va);
     let compact: Vec<u32> = starts.iter().map(|&s| d.index[s as usize]).collect();
     let mut rng = ChaCha8Rng::seed_from_u64(rng::derive(cfg.seed, STREAM));
-    let routes = plan::plan(&d, &compact, &mut rng);
-    Search::new(world, &d, starts, cfg, routes).run()
+    let every;
+    let need: &[bool] = match cfg.situation {
+        Situation::One => d.cover.get_or_init(|| cover::waypoints(world, &d)),
+        Situation::Two => {
+            every = vec![true; d.len()];
+            &every
+        }
+    };
+    let routes = plan::plan(&d, &compact, need, &mut rng);
+    Search::new(world, &d, starts, cfg, routes, rng).run()
 }
 
 /// The execution's bookkeeping: what is found, the clock, the records.
 struct Search<'a> {
     world: &'a World,
+    d: &'a plan::Dist,
     cfg: &'a RunConfig,
     exec: Exec<'a>,
+    /// The plan's stream, for planning again.
+    rng: ChaCha8Rng,
     found: Bitset,
     /// `|Va|`; robots move only within it.
     va_len: usize,
@@ -128,12 +140,15 @@ impl<'a> Search<'a> {
         starts: &[VertexId],
         cfg: &'a RunConfig,
         routes: Vec<plan::Route>,
+        rng: ChaCha8Rng,
     ) -> Self {
         let exec = Exec::new(world, d, routes);
         let mut s = Search {
             world,
+            d,
             cfg,
             exec,
+            rng,
             found: Bitset::new(world.targets.len()),
             va_len: d.len(),
             robots: starts.len(),
@@ -173,7 +188,7 @@ impl<'a> Search<'a> {
 
     fn run(mut self) -> RunResult {
         let n = self.robots;
-        while !self.done() && self.rounds < self.cfg.max_rounds && (0..n).any(|k| self.exec.busy(k)) {
+        while !self.done() && self.rounds < self.cfg.max_rounds && (self.busy() || self.replan()) {
             let busy = (0..n).filter(|&k| self.exec.busy(k)).count() as u64;
             let before: Vec<VertexId> = (0..n).map(|k| self.exec.position(k)).collect();
             let round = self.exec.step();
@@ -193,6 +208,25 @@ impl<'a> Search<'a> {
             self.sense();
         }
         self.finish(n)
+    }
+
+    fn busy(&self) -> bool {
+        (0..self.robots).any(|k| self.exec.busy(k))
+    }
+
+    /// Every waypoint visited and targets still missing (the sampled cover
+    /// missed a sliver): a plan for the vertices of `Va` not visited yet.
+    /// Whether any robot has somewhere to go.
+    fn replan(&mut self) -> bool {
+        let d = self.d;
+        let need: Vec<bool> = d.verts.iter().map(|&v| !self.exec.visited.get(v as usize)).collect();
+        if !need.contains(&true) {
+            return false;
+        }
+        let at: Vec<u32> = (0..self.robots).map(|k| self.exec.at(k)).collect();
+        let routes = plan::plan(d, &at, &need, &mut self.rng);
+        self.exec.replan(routes);
+        self.busy()
     }
 
     fn finish(self, n: usize) -> RunResult {
