@@ -1,16 +1,17 @@
 //! The oracle's waypoints in situation 1: vertices of `Va` whose sensing
 //! discs (radius `r_st`) cover the area around `Va`, so the plan need not
 //! visit every vertex (with `r_st = 1.3 a` about every other row covers
-//! it). The area is sampled: every triangle of the lattice with its
-//! corners in `Va`, at [`SUB`] points a side. The waypoints start as every other
+//! it). The area is sampled: every triangle of the lattice with a corner
+//! in `Va`, at [`SUB`] points a side (of one with a corner outside, the
+//! points nearest to a vertex of `Va`). The waypoints start as every other
 //! row of `Va` (rows a tour sweeps along, one move a waypoint), then a
 //! greedy set cover (the vertex covering the most uncovered samples first,
 //! the lowest id among equals) covers what the rows leave, by walls and
 //! gaps; of the two row parities, the one needing fewer waypoints (a
 //! greedy cover from scratch scatters its waypoints, and a tour through
 //! them costs nearly as much as visiting every vertex). Deterministic. A
-//! target between the triangles (by a wall) or in a sliver between samples
-//! may be missed: the execution then plans again for the rest of `Va`, so
+//! target in a sliver between samples (or beyond them, by a wall) may be
+//! missed: the execution then plans again for the rest of `Va`, so
 //! every run completes.
 
 use std::collections::{BinaryHeap, HashMap};
@@ -41,7 +42,8 @@ pub(super) fn waypoints(world: &World, d: &Dist) -> Vec<bool> {
     }
 }
 
-/// Points of every lattice triangle with its corners in `Va`, each once.
+/// Points of every lattice triangle with a corner in `Va` (nearest to a
+/// vertex of `Va` when not all are), each once.
 fn samples(world: &World, d: &Dist) -> Vec<Point> {
     let g = &world.grid;
     let deg = g.degree();
@@ -53,16 +55,22 @@ fn samples(world: &World, d: &Dist) -> Vec<Point> {
         let o = g.position(v);
         for s in 0..deg {
             let (a, b) = (n[s], n[(s + 1) % deg]);
-            // Only triangles of Va: one reaching past a wall would ask for
-            // waypoints along every wall, most of them for area beyond it.
-            let outside = |v: VertexId| v == NONE || d.index[v as usize] == u32::MAX;
-            if outside(a) || outside(b) {
+            if a == NONE || b == NONE {
                 continue;
             }
+            let outside = |v: VertexId| d.index[v as usize] == u32::MAX;
+            let all_in = !(outside(a) || outside(b));
             let (ea, eb) = (g.position(a) - o, g.position(b) - o);
             for i in 0..=SUB {
                 for j in 0..=SUB - i {
                     let p = o + ea * (i as f64 / SUB as f64) + eb * (j as f64 / SUB as f64);
+                    // Of a triangle reaching past a wall, only the part
+                    // nearer to Va than to the wall's side: all of it would
+                    // ask for waypoints along every wall for area beyond it,
+                    // none of it would miss targets by the walls.
+                    if !all_in && g.nearest(p).is_none_or(outside) {
+                        continue;
+                    }
                     if seen.insert(key(p), ()).is_none() {
                         out.push(p);
                     }

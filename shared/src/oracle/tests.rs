@@ -163,7 +163,7 @@ fn forced_moves_never_happen() {
 }
 
 /// In situation 1 the plan visits a cover of the area, not every vertex:
-/// on `paper` under half of `Va`'s vertices are waypoints, every
+/// on `paper` under three fifths of `Va`'s vertices are waypoints, every
 /// point of the lattice's triangles is within `r_st` of one, and the
 /// searches still find every target, sooner.
 #[test]
@@ -173,7 +173,7 @@ fn situation_one_covers_the_area_not_every_vertex() {
     let d = plan::Dist::new(&w, &va);
     let need = cover::waypoints(&w, &d);
     let picked = need.iter().filter(|&&x| x).count();
-    assert!(picked * 2 < d.len(), "{picked} of {}", d.len());
+    assert!(picked * 5 < d.len() * 3, "{picked} of {}", d.len());
     // Any point of a triangle of Va, off the samples too.
     let g = &w.grid;
     for &v in &d.verts {
@@ -197,7 +197,7 @@ fn situation_one_covers_the_area_not_every_vertex() {
         let routes = plan::plan(&d, &compact, &vec![true; d.len()], &mut rng);
         every += Search::new(&w, &d, &all, &cfg(seed, Situation::One), routes, rng).run().search_time_s;
     }
-    // 1,516 s against 1,649 s at 2026-12-04: the walk from the corner the
+    // 1,436 s against 1,649 s at 2026-12-04: the walk from the corner the
     // robots start in is much of a search on `paper`.
     assert!(covered < 0.95 * every, "cover {covered} s against every vertex {every} s");
 }
