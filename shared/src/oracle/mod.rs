@@ -3,8 +3,14 @@
 //! each algorithm a reference time (issue 8, point 3). It is not a robot
 //! program: it runs in-process only, and `run` refuses it.
 //!
-//! - **Plan** ([`plan`]): every vertex of `Va` is assigned to one robot, as
-//!   the robots' rule 4 must cover them all. A greedy multi-robot tour (the
+//! - **Waypoints**: in situation 2 every vertex of `Va`, as the robots'
+//!   rule 4 must visit them all; in situation 1 a set of vertices whose
+//!   sensing discs cover the area ([`cover`]), planned again for the rest
+//!   of `Va` should targets be missing once they are all visited. It is a
+//!   reference, not a lower bound: turns are charged, not planned
+//!   (`crate::bound` has a lower bound).
+//! - **Plan** ([`plan`]): every waypoint is assigned to one robot. A greedy
+//!   multi-robot tour (the
 //!   robot whose route ends earliest extends it to its nearest unassigned
 //!   vertex, by grid distance; ties drawn from the run's seed), improved by
 //!   local search (2-opt within routes, relocating waypoints off the longest
