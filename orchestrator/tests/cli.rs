@@ -158,6 +158,8 @@ fn simulate_lfp_leaves_the_grid_reproducibly() {
     roxmltree::Document::parse(&fs::read_to_string(a.join("routes.svg")).unwrap()).expect("routes.svg is XML");
 }
 
+const RESULTS_HEAD: &str = "algorithm,robots,runs,completed_runs,mean_search_time_s,";
+
 #[test]
 fn small_experiment_writes_tables_figure_and_claims() {
     let d = scratch("experiment");
@@ -203,7 +205,18 @@ fn small_experiment_writes_tables_figure_and_claims() {
     // Each algorithm against the oracle, and the baselines under their other readings.
     let oracle = summary["oracle_reference_s"].as_object().unwrap();
     assert_eq!(oracle.len(), 3, "{summary}");
-    assert!(text.contains("x_oracle"), "{text}");
+    assert!(text.contains("x_oracle ") && text.contains("x_bound"), "{text}");
+    // 5 runs a cell, the oracle's first 5: the same runs, not an estimate.
+    assert_eq!(summary["references"]["oracle_estimate"], false, "{summary}");
+    // Every cell has its lower bound, below its mean (the last columns:
+    // a label may hold commas).
+    assert!(csv.starts_with(RESULTS_HEAD) && csv.lines().next().unwrap().ends_with(",oracle_runs,lower_bound_s"));
+    for r in &rows {
+        let f: Vec<&str> = r.split(',').collect();
+        let (mean, bound): (f64, f64) = (f[4].parse().unwrap(), f[f.len() - 1].parse().unwrap());
+        assert!(bound > 0.0 && bound < mean, "{r}");
+        assert_eq!(f[f.len() - 2], "5", "{r}");
+    }
     let readings = summary["sensitivity"].as_array().unwrap();
     // RU's other collision charge, LFP's other turning laws (uniform, and
     // sigma 0.5 unless that is the default) and repulsion range, at 3 counts.
@@ -635,4 +648,25 @@ fn an_unwritable_out_fails_before_any_run() {
     let err = assert_clean_error(&o);
     assert!(t.elapsed().as_secs_f64() < 5.0, "ran before failing: {err}");
     assert!(!stdout(&o).contains("runs in"), "{}", stdout(&o));
+}
+
+/// With more runs a cell than the oracle's reference makes, `x_oracle` is
+/// an estimate, and the table, results.csv and summary.json say so.
+#[test]
+fn an_oracle_reference_on_fewer_runs_is_marked_an_estimate() {
+    let d = scratch("estimate");
+    let out = d.join("out");
+    let o = gridswarm(&["experiment", "--algorithms", "escape", "--robots", "13", "--runs", "12", "--out", path(&out)]);
+    assert_ok(&o);
+    let text = stdout(&o);
+    assert!(text.contains("x_oracle~") && text.contains("x_oracle~ is an estimate"), "{text}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["references"]["oracle_estimate"], true, "{summary}");
+    assert_eq!(summary["references"]["oracle_runs"], 10, "{summary}");
+    let csv = fs::read_to_string(out.join("results.csv")).unwrap();
+    assert!(csv.lines().nth(1).unwrap().contains(",all,"), "{csv}");
+    assert!(csv.lines().nth(1).unwrap().split(',').rev().nth(1) == Some("10"), "{csv}");
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("× oracle (estimate)"), "results table header");
 }

@@ -66,8 +66,10 @@ fn maps_write_the_map_column_and_the_spread() {
     let results = fs::read_to_string(out.join("results.csv")).unwrap();
     let header: Vec<&str> = results.lines().next().unwrap().split(',').collect();
     let map_col = header.iter().position(|&h| h == "map").expect("a map column");
-    let maps: Vec<String> = results.lines().skip(1).map(|l| l.rsplit(',').next().unwrap().to_string()).collect();
-    assert_eq!(map_col, header.len() - 1);
+    // Counted from the end (a label may hold commas): the references follow.
+    let maps: Vec<String> = results.lines().skip(1).map(|l| l.rsplit(',').nth(3).unwrap().to_string()).collect();
+    assert_eq!(map_col, header.len() - 4);
+    assert_eq!(header[map_col + 1..], ["oracle_reference_s", "oracle_runs", "lower_bound_s"]);
     // 2 algorithms x 2 counts: 4 pooled rows, then 4 per map.
     assert_eq!(maps.len(), 16);
     assert!(maps[..4].iter().all(|m| m == "all"), "{maps:?}");

@@ -31,6 +31,7 @@ pub use gridswarm_transport::net;
 pub use gridswarm_transport::nofile;
 
 pub mod assumptions;
+pub mod bound;
 pub mod engine;
 pub mod lfp;
 pub mod near;

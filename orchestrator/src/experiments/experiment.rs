@@ -143,16 +143,17 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     // Before any run, so a bad directory fails at once.
     let stage = Staging::begin(&opts.out)?;
     let part = Part::compute(opts, &algorithms, &maps)?;
-    let Part { scenario, cells, claims, oracle, wall_time_s, robot_rounds, .. } = &part;
+    let Part { scenario, cells, claims, refs, wall_time_s, robot_rounds, .. } = &part;
     let several = opts.maps.is_some();
     let spreads = maps::spreads(&part.per_map);
     let maps_line = if several { maps::summary_line(&maps) } else { String::new() };
     let spread_note = if several { format!("{}\n", crate::spread::one_line(&spreads)) } else { String::new() };
     let setup = part.setup(opts, &maps);
     let text = format!(
-        "{}{}{spread_note}\n{}{}\n{}",
+        "{}{}{}{spread_note}\n{}{}\n{}",
         if opts.verbose { setup.clone() } else { short_setup(scenario, opts, maps.len()) + &maps_line },
-        table(cells, oracle),
+        table(cells, refs),
+        refs.note(),
         incomplete_note(cells, opts.max_rounds),
         part.shown_claims(opts),
         ran_line(part.records.len(), *wall_time_s, several, &opts.out),
@@ -162,7 +163,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     let out = &stage.path().to_path_buf();
     let write = || -> Result<()> {
         let map_cells: &[Vec<CellStats>] = if several { &part.per_map } else { &[] };
-        output::write_text(&out.join("results.csv"), &results_csv(cells, map_cells))?;
+        output::write_text(&out.join("results.csv"), &results_csv(cells, map_cells, refs))?;
         output::write_file(&out.join("runs.csv"), |w| part.plan().write_runs_csv(w, &part.records))?;
         let map_rows = maps::rows(&maps);
         if several {
@@ -191,7 +192,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             wall_time_s: *wall_time_s,
             threads: rayon::current_num_threads(),
             runs_total: part.records.len(),
-            oracle,
+            refs,
             extra: [report::sensitivity_section(&part.readings)]
                 .into_iter()
                 .flatten()
@@ -247,7 +248,8 @@ pub(crate) struct Part {
     pub per_map: Vec<Vec<CellStats>>,
     pub cells: Vec<CellStats>,
     pub claims: Vec<ClaimResult>,
-    pub oracle: BTreeMap<usize, f64>,
+    /// The oracle's means and the lower bounds.
+    pub refs: crate::refs::Refs,
     pub readings: Vec<sensitivity::Row>,
     pub wall_time_s: f64,
     pub robot_rounds: u64,
@@ -282,7 +284,9 @@ impl Part {
         // Paired run by run: run k of every algorithm shares its seed and map.
         let per_cell: Vec<&[RunRecord]> = pooled.iter().map(Vec::as_slice).collect();
         let claims = claims::evaluate(&cells, &per_cell);
-        let oracle = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
+        let (oracle, oracle_runs) = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
+        let bound = crate::refs::bounds(&worlds, &starts, &opts.robots, plan.runs, algorithms, scenario.situation);
+        let refs = crate::refs::Refs { oracle, oracle_runs, cell_runs: plan.runs * maps.len(), bound };
         // On the first map, the sweep's first runs under the other readings.
         let sweep = sensitivity::Sweep {
             scenario: &maps[0].scenario,
@@ -311,7 +315,7 @@ impl Part {
             per_map,
             cells,
             claims,
-            oracle,
+            refs,
             readings,
             wall_time_s,
             robot_rounds,
@@ -402,8 +406,9 @@ impl Part {
             "statistics": "mean, std (n-1), ci95 = 1.96 std / sqrt(n), median, rounds and collisions over completed \
                 runs; mean_targets_found over all runs",
             "cells": self.cells,
-            "oracle_reference_s": self.oracle,
+            "oracle_reference_s": self.refs.oracle,
             "oracle_reference": ORACLE_NOTE,
+            "references": self.refs.json(),
             "sensitivity": self.readings,
             "claims": self.claims,
         })
@@ -436,27 +441,30 @@ pub const START_NOTE: &str = "fixed: the scenario's [starts] for every run; rand
 
 /// How the oracle's reference times are made, for summary.json and reports.
 pub const ORACLE_NOTE: &str = "the oracle (a centralized planner that knows the map, not the targets) at each \
-    robot count: its cell when the sweep runs it, else up to 10 runs per map on the same seeds and starts";
+    robot count: its cell when the sweep runs it, else the first 10 runs per map on the same seeds and starts, \
+    an estimate when the cells have more runs (references.oracle_estimate)";
 
 /// Runs of the oracle per map made only for the reference (it takes about
 /// 10 ms a run, the robots a fraction of that).
 const ORACLE_REFERENCE_RUNS: usize = 10;
 
-/// The oracle's mean search time at each robot count: from the sweep when
-/// it ran the oracle, else from a few runs of its own.
+/// The oracle's mean search time at each robot count, and the runs per
+/// robot count it rests on: from the sweep when it ran the oracle, else
+/// from a few runs of its own.
 fn oracle_reference(
     plan: &Plan,
     runners: &[Runner],
     cells: &[CellStats],
     situation: Situation,
     opts: &ExperimentOptions,
-) -> BTreeMap<usize, f64> {
+) -> (BTreeMap<usize, f64>, usize) {
     if plan.algorithms.contains(&Policy::Oracle) {
-        return cells
+        let means = cells
             .iter()
             .filter(|c| c.algorithm == Policy::Oracle)
             .filter_map(|c| Some((c.robots, c.mean_search_time_s?)))
             .collect();
+        return (means, plan.runs * runners.len());
     }
     let runs = plan.runs.min(ORACLE_REFERENCE_RUNS);
     let jobs: Vec<(usize, usize, usize)> = (0..runners.len())
@@ -481,12 +489,7 @@ fn oracle_reference(
             out.insert(n, done.iter().sum::<f64>() / done.len() as f64);
         }
     }
-    out
-}
-
-/// A cell's mean search time over the oracle's at its robot count.
-pub fn ratio_to(oracle: &BTreeMap<usize, f64>, c: &CellStats) -> Option<f64> {
-    Some(c.mean_search_time_s? / oracle.get(&c.robots).filter(|&&o| o > 0.0)?)
+    (out, runs * runners.len())
 }
 
 /// The sweep's setting in one line, for the terminal (claims.txt and
@@ -651,13 +654,15 @@ pub fn incomplete_note(cells: &[CellStats], max_rounds: u32) -> String {
 }
 
 pub const RESULTS_HEADER: &str = "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,\
-                                  mean_rounds,mean_collisions,label,median_search_time_s,mean_targets_found,map";
+                                  mean_rounds,mean_collisions,label,median_search_time_s,mean_targets_found,map,\
+                                  oracle_reference_s,oracle_runs,lower_bound_s";
 
 /// `results.csv`: one row per cell over every map (`map` = `all`), then,
 /// with several maps, one per cell and map (`map` = its index, as in
 /// maps.csv); empty fields where there were too few completed runs for the
-/// statistic.
-pub fn results_csv(cells: &[CellStats], per_map: &[Vec<CellStats>]) -> String {
+/// statistic. The references (the oracle's mean, the runs it rests on, the
+/// mean lower bound) are the pooled cells' only.
+pub fn results_csv(cells: &[CellStats], per_map: &[Vec<CellStats>], refs: &crate::refs::Refs) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "{RESULTS_HEADER}");
     let tagged = cells
@@ -665,9 +670,12 @@ pub fn results_csv(cells: &[CellStats], per_map: &[Vec<CellStats>]) -> String {
         .map(|c| (c, "all".to_string()))
         .chain(per_map.iter().enumerate().flat_map(|(m, cs)| cs.iter().map(move |c| (c, m.to_string()))));
     for (c, map) in tagged {
+        let pooled = map == "all";
+        let oracle = refs.oracle.get(&c.robots).copied().filter(|_| pooled);
+        let oracle_runs = if pooled && oracle.is_some() { refs.oracle_runs.to_string() } else { String::new() };
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},\"{}\",{},{:.6},{map}",
+            "{},{},{},{},{},{},{},{},{},\"{}\",{},{:.6},{map},{},{oracle_runs},{}",
             c.algorithm.name(),
             c.robots,
             c.runs,
@@ -679,27 +687,38 @@ pub fn results_csv(cells: &[CellStats], per_map: &[Vec<CellStats>]) -> String {
             output::csv_num(c.mean_collisions),
             c.algorithm.paper_label(),
             output::csv_num(c.median_search_time_s),
-            c.mean_targets_found
+            c.mean_targets_found,
+            output::csv_num(oracle),
+            output::csv_num(refs.bound(c).filter(|_| pooled)),
         );
     }
     s
 }
 
-/// The cells as an aligned table for the terminal.
 /// The terminal's results table; `x_oracle` is the mean over the oracle's
-/// mean at the same robot count.
-pub fn table(cells: &[CellStats], oracle: &BTreeMap<usize, f64>) -> String {
+/// mean at the same robot count, `x_bound` over the cell's mean lower bound.
+pub fn table(cells: &[CellStats], refs: &crate::refs::Refs) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<11} {:<12} {:>6} {:>7} {:>9} {:>8} {:>8} {:>10} {:>8}",
-        "algorithm", "label", "robots", "done", "mean_s", "ci95_s", "rounds", "collisions", "x_oracle"
+        "{:<14} {:<14} {:>6} {:>7} {:>9} {:>8} {:>8} {:>10} {:>9} {:>8} {:>7}",
+        "algorithm",
+        "label",
+        "robots",
+        "done",
+        "mean_s",
+        "ci95_s",
+        "rounds",
+        "collisions",
+        refs.x_oracle_name(),
+        "bound_s",
+        "x_bound"
     );
     let f = |x: Option<f64>, d: usize| x.map(|v| format!("{v:.d$}")).unwrap_or_else(|| "-".into());
     for c in cells {
         let _ = writeln!(
             s,
-            "{:<11} {:<12} {:>6} {:>7} {:>9} {:>8} {:>8} {:>10} {:>8}",
+            "{:<14} {:<14} {:>6} {:>7} {:>9} {:>8} {:>8} {:>10} {:>9} {:>8} {:>7}",
             c.algorithm.name(),
             c.algorithm.paper_label(),
             c.robots,
@@ -708,7 +727,9 @@ pub fn table(cells: &[CellStats], oracle: &BTreeMap<usize, f64>) -> String {
             f(c.ci95_s, 1),
             f(c.mean_rounds, 1),
             f(c.mean_collisions, 2),
-            f(ratio_to(oracle, c), 2)
+            f(refs.x_oracle(c), 2),
+            f(refs.bound(c), 1),
+            f(refs.x_bound(c), 2)
         );
     }
     s
@@ -723,12 +744,13 @@ mod tests {
         let recs =
             [RunRecord { seed: 1, search_time_s: 10.0, rounds: 2, collisions: 0, targets_found: 3, complete: false }];
         let cells = vec![CellStats::of(Policy::Sequential, 4, &recs)];
-        let csv = results_csv(&cells, std::slice::from_ref(&cells));
+        let refs = crate::refs::Refs::default();
+        let csv = results_csv(&cells, std::slice::from_ref(&cells), &refs);
         let mut lines = csv.lines();
         assert!(lines.next().unwrap().starts_with(
             "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,mean_rounds,mean_collisions"
         ));
-        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,all");
-        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,0");
+        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,all,,,");
+        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,0,,,");
     }
 }

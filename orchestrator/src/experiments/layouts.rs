@@ -49,6 +49,11 @@ impl Layouts {
         Ok(Layouts { fixed, drawn, counts: robots.len(), runs })
     }
 
+    /// Whether every run of a map and robot count starts alike.
+    pub fn fixed(&self) -> bool {
+        self.drawn.is_empty()
+    }
+
     /// Run `k` on map `m` with the `r`-th robot count.
     pub fn of(&self, m: usize, r: usize, k: usize) -> &[VertexId] {
         if self.drawn.is_empty() {

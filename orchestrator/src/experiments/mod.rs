@@ -3,7 +3,8 @@
 //! comparison (`grids`), the paper's claims, and the pieces they share:
 //! running jobs on either engine (`sweep`), where runs start (`layouts`), reading a run's figures
 //! (`tally`), statistics, seeds, the maps a sweep runs on (`maps`), and how
-//! much a sweep depends on the paper's readings (`sensitivity`), and the
+//! much a sweep depends on the paper's readings (`sensitivity`), the
+//! references cells are measured against (`refs`), and the
 //! claims re-evaluated over a grid of those readings (`readings`), and the
 //! sweep over a grid of `--set` scenario values (`settings`, `set_sweep`).
 
@@ -15,6 +16,7 @@ pub mod layouts;
 pub mod maps;
 pub mod radio;
 pub mod readings;
+pub mod refs;
 pub mod scale;
 pub mod seeds;
 pub mod sensitivity;

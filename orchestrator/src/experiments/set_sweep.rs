@@ -11,9 +11,7 @@ use serde_json::{json, Value};
 use gridswarm::policy::Policy;
 
 use crate::error::{Error, Result};
-use crate::experiment::{
-    fig_title, incomplete_note, provenance_of, ratio_to, results_csv, ExperimentOptions, Part, Sweep,
-};
+use crate::experiment::{fig_title, incomplete_note, provenance_of, results_csv, ExperimentOptions, Part, Sweep};
 use crate::maps::Map;
 use crate::report::{self, Block, Report, Section, Table};
 use crate::settings::{self, Setting};
@@ -61,7 +59,7 @@ pub fn run(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[Map]) -> Res
     let wall_time_s: f64 = combos.iter().map(|c| c.part.wall_time_s).sum();
     let figures = (1..=combos.len()).map(|i| format!("fig7-{i}.svg")).collect::<Vec<_>>();
     let text = format!(
-        "scenario {}, {} runs per cell, base seed {}, {} combinations of {} (parameters in summary.json)\n{}\n{}\
+        "scenario {}, {} runs per cell, base seed {}, {} combinations of {} (parameters in summary.json)\n{}{}\n{}\
          {runs} runs in {wall_time_s:.2} s wall time on {} threads; wrote results.csv, runs.csv, {}, claims.txt, \
          summary.json, report.html in {}\n",
         output::shown(&maps[0].scenario.name),
@@ -70,6 +68,7 @@ pub fn run(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[Map]) -> Res
         combos.len(),
         keys(&opts.set).join(", "),
         report::keyed_text_table(&terminal_table(&opts.set, &combos), opts.set.len() + 2),
+        combos[0].part.refs.note(),
         combos.iter().map(|c| format!("{}:\n{}", c.name(&opts.set), c.part.shown_claims(opts))).collect::<String>(),
         rayon::current_num_threads(),
         match figures.len() {
@@ -80,7 +79,10 @@ pub fn run(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[Map]) -> Res
     );
     let out = &stage.path().to_path_buf();
     let write = || -> Result<()> {
-        output::write_text(&out.join("results.csv"), &tagged(&opts.set, &combos, |p| results_csv(&p.cells, &[])))?;
+        output::write_text(
+            &out.join("results.csv"),
+            &tagged(&opts.set, &combos, |p| results_csv(&p.cells, &[], &p.refs)),
+        )?;
         output::write_text(&out.join("runs.csv"), &tagged(&opts.set, &combos, Part::runs_csv))?;
         let mut svgs = Vec::new();
         for (c, f) in combos.iter().zip(&figures) {
@@ -149,9 +151,8 @@ fn csv_field(v: &str) -> String {
 fn terminal_table(set: &[Setting], combos: &[Combo]) -> Table {
     let f = |x: Option<f64>, d: usize| x.map(|v| format!("{v:.d$}")).unwrap_or_else(|| "-".into());
     let mut header = keys(set);
-    header.extend(
-        ["algorithm", "robots", "done", "mean_s", "ci95_s", "rounds", "collisions", "x_oracle"].map(String::from),
-    );
+    header.extend(["algorithm", "robots", "done", "mean_s", "ci95_s", "rounds", "collisions"].map(String::from));
+    header.extend([combos[0].part.refs.x_oracle_name(), "bound_s", "x_bound"].map(String::from));
     let rows = combos
         .iter()
         .flat_map(|c| {
@@ -165,7 +166,9 @@ fn terminal_table(set: &[Setting], combos: &[Combo]) -> Table {
                     f(x.ci95_s, 1),
                     f(x.mean_rounds, 1),
                     f(x.mean_collisions, 2),
-                    f(ratio_to(&c.part.oracle, x), 2),
+                    f(c.part.refs.x_oracle(x), 2),
+                    f(c.part.refs.bound(x), 1),
+                    f(c.part.refs.x_bound(x), 2),
                 ]);
                 row
             })
@@ -213,11 +216,12 @@ fn summary(opts: &ExperimentOptions, maps: &[Map], combos: &[Combo]) -> Value {
                 "lfp": one["lfp"],
                 "claims": one["claims"],
                 "oracle_reference_s": one["oracle_reference_s"],
+                "references": one["references"],
                 "sensitivity": one["sensitivity"],
             })
         })
         .collect::<Vec<_>>());
-    for k in ["claims", "oracle_reference_s", "sensitivity"] {
+    for k in ["claims", "oracle_reference_s", "references", "sensitivity"] {
         if let Some(o) = s.as_object_mut() {
             o.remove(k);
         }
@@ -230,7 +234,7 @@ fn summary(opts: &ExperimentOptions, maps: &[Map], combos: &[Combo]) -> Value {
 fn page(opts: &ExperimentOptions, summary: &Value, combos: &[Combo], svgs: &[String], ran: (usize, f64)) -> Report {
     let mut results = Table::default();
     for c in combos {
-        let t = report::cells_table(&c.part.cells, &c.part.oracle);
+        let t = report::cells_table(&c.part.cells, &c.part.refs);
         if results.header.is_empty() {
             results.header = keys(&opts.set).into_iter().chain(t.header).collect();
         }
@@ -241,9 +245,10 @@ fn page(opts: &ExperimentOptions, summary: &Value, combos: &[Combo], svgs: &[Str
         vec![
             Block::Text(format!(
                 "One row per combination of {}, algorithm and robot count; every combination ran on the same seeds \
-                 and starts. × oracle: {}.",
+                 and starts. × oracle: {}. {}",
                 keys(&opts.set).join(", "),
-                crate::experiment::ORACLE_NOTE
+                crate::experiment::ORACLE_NOTE,
+                combos[0].part.refs.note().trim_end()
             )),
             Block::Table(results),
         ],

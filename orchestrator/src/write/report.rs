@@ -5,7 +5,6 @@
 //! [`render`]; the Fig. 7 sweep's is [`fig7`]. The failure and scaling
 //! experiments are meant to reuse the same blocks, so all reports look alike.
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use serde_json::Value;
@@ -316,7 +315,7 @@ pub fn render(report: &Report) -> String {
 }
 
 /// The results table of a Fig. 7 sweep, one row per (algorithm, robots).
-pub fn cells_table(cells: &[CellStats], oracle: &BTreeMap<usize, f64>) -> Table {
+pub fn cells_table(cells: &[CellStats], refs: &crate::refs::Refs) -> Table {
     let f = |x: Option<f64>, d: usize| x.map(|v| format!("{v:.d$}")).unwrap_or_else(|| "-".into());
     Table {
         header: [
@@ -331,7 +330,9 @@ pub fn cells_table(cells: &[CellStats], oracle: &BTreeMap<usize, f64>) -> Table 
             "mean rounds",
             "mean collisions",
             "mean targets found",
-            "× oracle",
+            if refs.estimate() { "× oracle (estimate)" } else { "× oracle" },
+            "lower bound (s)",
+            "× bound",
         ]
         .map(String::from)
         .to_vec(),
@@ -350,7 +351,9 @@ pub fn cells_table(cells: &[CellStats], oracle: &BTreeMap<usize, f64>) -> Table 
                     f(c.mean_rounds, 1),
                     f(c.mean_collisions, 2),
                     format!("{:.2}", c.mean_targets_found),
-                    f(crate::experiment::ratio_to(oracle, c), 2),
+                    f(refs.x_oracle(c), 2),
+                    f(refs.bound(c), 1),
+                    f(refs.x_bound(c), 2),
                 ]
             })
             .collect(),
@@ -420,9 +423,9 @@ pub struct Fig7Inputs<'a> {
     pub wall_time_s: f64,
     pub threads: usize,
     pub runs_total: usize,
-    /// The oracle's mean search time by robot count, the reference of the
-    /// "× oracle" column.
-    pub oracle: &'a BTreeMap<usize, f64>,
+    /// The oracle's means and the lower bounds, the references of the
+    /// "× oracle" and "× bound" columns.
+    pub refs: &'a crate::refs::Refs,
     /// Sections after the results (the per-map spread of a sweep over maps).
     pub extra: Vec<Section>,
 }
@@ -474,10 +477,11 @@ pub fn fig7(x: &Fig7Inputs) -> Report {
         Section::new(
             "Results",
             vec![
-                Block::Table(cells_table(x.cells, x.oracle)),
+                Block::Table(cells_table(x.cells, x.refs)),
                 Block::Text(format!(
-                    "× oracle: the mean search time over the oracle's at the same robot count; the oracle is {}.",
-                    crate::experiment::ORACLE_NOTE
+                    "× oracle: the mean search time over the oracle's at the same robot count; the oracle is {}. {}",
+                    crate::experiment::ORACLE_NOTE,
+                    x.refs.note().trim_end()
                 )),
             ],
         ),
@@ -689,8 +693,19 @@ mod tests {
             median_search_time_s: Some(99.0),
             mean_targets_found: 9.0,
         };
-        let t = cells_table(&[c], &BTreeMap::new());
+        let t = cells_table(std::slice::from_ref(&c), &crate::refs::Refs::default());
         assert_eq!(t.rows[0][..5], ["ru", "RU", "4", "4/5", "100.0"].map(String::from));
         assert_eq!(t.rows[0][5], "-");
+        assert_eq!(t.rows[0][11..], ["-", "-", "-"].map(String::from));
+        // The oracle on 10 runs of the cells' 50: an estimate, and said so.
+        let refs = crate::refs::Refs {
+            oracle: [(4, 50.0)].into(),
+            oracle_runs: 10,
+            cell_runs: 50,
+            bound: [((false, 4), 40.0)].into(),
+        };
+        let t = cells_table(&[c], &refs);
+        assert_eq!(t.header[11], "× oracle (estimate)");
+        assert_eq!(t.rows[0][11..], ["2.00", "40.0", "2.50"].map(String::from));
     }
 }

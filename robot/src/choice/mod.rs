@@ -9,7 +9,8 @@
 //! so a rule is deterministic per seed and the same in both engines.
 //!
 //! Built-in rules live one per file ([`repulsive`], [`sequential`],
-//! [`ru`], [`escape`], [`frontier`]); [`paths`] holds the breadth-first
+//! [`ru`], [`escape`], [`frontier`], and [`coord`], registered by name
+//! as `frontier-coord` in [`EXTRA`]); [`paths`] holds the breadth-first
 //! search several of them share. A researcher's rule is one file too,
 //! implementing [`ChoiceRule`], made known by name in one of two ways:
 //!
@@ -21,6 +22,7 @@
 //!   (`robot_agent::main_with`, then `--agent-bin PATH`); see
 //!   `robot-agent/examples/my_rule.rs`, which does both.
 
+pub mod coord;
 pub mod escape;
 pub mod frontier;
 pub mod paths;
@@ -40,7 +42,7 @@ pub use registry::{register, rule_for, Factory, RuleName};
 
 /// Rules compiled into every program of the workspace, by name: one line
 /// per rule added in this folder.
-pub const EXTRA: &[(&str, Factory)] = &[];
+pub const EXTRA: &[(&str, Factory)] = &[("frontier-coord", coord::new)];
 
 /// The generator a rule draws from: the robot's own, seeded from the run.
 pub type RuleRng = ChaCha8Rng;

@@ -166,6 +166,35 @@ impl Paths {
         level
     }
 
+    /// Every known unvisited vertex at most `slack` farther from `from`
+    /// than the nearest, with its distance, in search order, into `out`;
+    /// returns the nearest's distance (`None`: none is reachable).
+    pub fn unvisited_within(
+        &mut self,
+        grid: &Grid,
+        map: &Map,
+        from: VertexId,
+        blocked: &[VertexId],
+        slack: u32,
+        out: &mut Vec<(VertexId, u32)>,
+    ) -> Option<u32> {
+        out.clear();
+        let g = self.start(grid.len(), &[from], blocked);
+        let mut level = None;
+        self.run(grid, map, g, |s, v| {
+            let d = s.dist[v as usize];
+            if level.is_some_and(|l: u32| d > l + slack) {
+                return true;
+            }
+            if v != from && !map.visited(v) {
+                level.get_or_insert(d);
+                out.push((v, d));
+            }
+            false
+        });
+        level
+    }
+
     /// Distances from the nearest of `sources` to every reachable vertex.
     pub fn distances_from(&mut self, grid: &Grid, map: &Map, sources: &[VertexId], blocked: &[VertexId]) {
         let g = self.start(grid.len(), sources, blocked);

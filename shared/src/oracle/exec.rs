@@ -6,9 +6,14 @@
 //! blocked for [`DETOUR_AFTER`] rounds takes a shortest path around the
 //! robots in its way, if there is one, or has the robot in its way step
 //! aside; a robot done with its route steps aside at once. Robots kept
-//! waiting go first. One still blocked after [`FORCE_AFTER`] rounds moves
-//! anyway, and that move is counted as a collision (never seen on the
-//! built-in maps).
+//! waiting go first. One with no less route left after [`SWAP_AFTER`]
+//! rounds (blocked, or pushed to and fro), held up by a robot standing
+//! where it must go (head-on in a corridor, or a parked
+//! robot with nowhere to step) trades the rest of its route with that
+//! robot's instead of moving: the robots are alike, so each carries on
+//! with the other's work from where it stands, and no move is forced. Only
+//! one blocked for [`FORCE_AFTER`] rounds moves anyway, counted as a
+//! collision; the tests run hundreds of searches without one.
 
 use crate::bitset::Bitset;
 use crate::geometry::swept_min_distance;
@@ -18,7 +23,8 @@ use crate::world::World;
 use super::plan::{next_hop, Dist, Route};
 
 const DETOUR_AFTER: u32 = 2;
-const FORCE_AFTER: u32 = 20;
+const SWAP_AFTER: u32 = 20;
+const FORCE_AFTER: u32 = 100;
 
 /// One robot following its route.
 #[derive(Clone, Debug)]
@@ -33,6 +39,10 @@ struct Walker {
     tail: Vec<u32>,
     /// Rounds in a row this robot was blocked.
     blocked: u32,
+    /// The least route left it had, and the rounds since it had less:
+    /// robots pushed to and fro reset `blocked`, not this.
+    best: u32,
+    stalled: u32,
     /// A path around blocking robots, followed before the route resumes.
     detour: Vec<u32>,
 }
@@ -54,21 +64,48 @@ pub(super) struct Exec<'a> {
     pub visited: Bitset,
 }
 
+/// A robot at its route's start, about to follow it.
+fn walker(d: &Dist, route: Route, heading: Option<(i32, i32)>) -> Walker {
+    let mut tail = vec![0u32; route.stops.len()];
+    for p in (0..route.stops.len().saturating_sub(1)).rev() {
+        tail[p] = tail[p + 1] + d.get(route.stops[p], route.stops[p + 1]);
+    }
+    Walker {
+        at: route.start,
+        heading,
+        route,
+        next: 0,
+        tail,
+        blocked: 0,
+        best: u32::MAX,
+        stalled: 0,
+        detour: Vec::new(),
+    }
+}
+
 impl<'a> Exec<'a> {
     pub fn new(world: &'a World, d: &'a Dist, routes: Vec<Route>) -> Self {
         let mut visited = Bitset::new(world.grid.len());
-        let walkers = routes
-            .into_iter()
-            .map(|route| {
-                visited.set(d.verts[route.start as usize] as usize);
-                let mut tail = vec![0u32; route.stops.len()];
-                for p in (0..route.stops.len().saturating_sub(1)).rev() {
-                    tail[p] = tail[p + 1] + d.get(route.stops[p], route.stops[p + 1]);
-                }
-                Walker { at: route.start, heading: None, route, next: 0, tail, blocked: 0, detour: Vec::new() }
-            })
-            .collect();
+        for r in &routes {
+            visited.set(d.verts[r.start as usize] as usize);
+        }
+        let walkers = routes.into_iter().map(|route| walker(d, route, None)).collect();
         Exec { world, d, walkers, visited }
+    }
+
+    /// New routes from where the robots stand (route `k`'s start is robot
+    /// `k`'s vertex), headings and visits kept.
+    pub fn replan(&mut self, routes: Vec<Route>) {
+        let headings: Vec<_> = self.walkers.iter().map(|w| w.heading).collect();
+        self.walkers = routes.into_iter().zip(headings).map(|(r, h)| walker(self.d, r, h)).collect();
+        for k in 0..self.walkers.len() {
+            self.skip_visited(k);
+        }
+    }
+
+    /// Robot `k`'s vertex, compact.
+    pub fn at(&self, k: usize) -> u32 {
+        self.walkers[k].at
     }
 
     pub fn position(&self, k: usize) -> VertexId {
@@ -108,6 +145,15 @@ impl<'a> Exec<'a> {
     pub fn step(&mut self) -> Round {
         let n = self.walkers.len();
         let mut order: Vec<usize> = (0..n).filter(|&k| self.busy(k)).collect();
+        for &k in &order {
+            let left = self.remaining(k);
+            let w = &mut self.walkers[k];
+            if left < w.best {
+                (w.best, w.stalled) = (left, 0);
+            } else {
+                w.stalled += 1;
+            }
+        }
         // Robots kept waiting go first (no robot starves behind a stream),
         // then those with the most left (the makespan's).
         order.sort_by_key(|&k| (std::cmp::Reverse(self.walkers[k].blocked), std::cmp::Reverse(self.remaining(k)), k));
@@ -127,6 +173,9 @@ impl<'a> Exec<'a> {
                 round.forced += clashes;
                 end[k] = Some(to);
                 self.walkers[k].blocked = 0;
+            } else if self.walkers[k].stalled >= SWAP_AFTER && self.trade(k, to, &end) {
+                end[k] = Some(self.walkers[k].at);
+                round.waited = true;
             } else {
                 end[k] = Some(self.walkers[k].at);
                 round.waited = true;
@@ -189,6 +238,39 @@ impl<'a> Exec<'a> {
         free.is_some()
     }
 
+    /// Robot `k` trades the rest of its route with the robot standing on
+    /// `to` (not moving this round), which has been in its way; both start
+    /// afresh. Whether there was one.
+    fn trade(&mut self, k: usize, to: u32, end: &[Option<u32>]) -> bool {
+        let standing =
+            (0..self.walkers.len()).find(|&j| j != k && self.walkers[j].at == to && end[j].is_none_or(|e| e == to));
+        let Some(j) = standing else { return false };
+        let (a, b) = if k < j { (k, j) } else { (j, k) };
+        let (left, right) = self.walkers.split_at_mut(b);
+        let (x, y) = (&mut left[a], &mut right[0]);
+        std::mem::swap(&mut x.route.stops, &mut y.route.stops);
+        std::mem::swap(&mut x.next, &mut y.next);
+        std::mem::swap(&mut x.tail, &mut y.tail);
+        for w in [x, y] {
+            w.detour.clear();
+            (w.blocked, w.best, w.stalled) = (0, u32::MAX, 0);
+        }
+        // A waypoint of the other's route may be where this one stands.
+        self.skip_visited(a);
+        self.skip_visited(b);
+        true
+    }
+
+    /// Moves robot `k`'s next waypoint past those visited already.
+    fn skip_visited(&mut self, k: usize) {
+        let (verts, visited) = (&self.d.verts, &self.visited);
+        let w = &mut self.walkers[k];
+        while w.route.stops.get(w.next).is_some_and(|&s| visited.get(verts[s as usize] as usize)) {
+            w.next += 1;
+            w.detour.clear();
+        }
+    }
+
     /// A shortest path from robot `k` to its next waypoint that avoids the
     /// vertices other robots stand on, stored backwards in its detour.
     fn plan_detour(&mut self, k: usize) {
@@ -245,9 +327,6 @@ impl<'a> Exec<'a> {
             }
             self.visited.set(self.d.verts[to as usize] as usize);
         }
-        while w.route.stops.get(w.next).is_some_and(|&s| self.visited.get(self.d.verts[s as usize] as usize)) {
-            w.next += 1;
-            w.detour.clear();
-        }
+        self.skip_visited(k);
     }
 }

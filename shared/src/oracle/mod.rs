@@ -3,8 +3,14 @@
 //! each algorithm a reference time (issue 8, point 3). It is not a robot
 //! program: it runs in-process only, and `run` refuses it.
 //!
-//! - **Plan** ([`plan`]): every vertex of `Va` is assigned to one robot, as
-//!   the robots' rule 4 must cover them all. A greedy multi-robot tour (the
+//! - **Waypoints**: in situation 2 every vertex of `Va`, as the robots'
+//!   rule 4 must visit them all; in situation 1 a set of vertices whose
+//!   sensing discs cover the area ([`cover`]), planned again for the rest
+//!   of `Va` should targets be missing once they are all visited. It is a
+//!   reference, not a lower bound: turns are charged, not planned
+//!   (`crate::bound` has a lower bound).
+//! - **Plan** ([`plan`]): every waypoint is assigned to one robot. A greedy
+//!   multi-robot tour (the
 //!   robot whose route ends earliest extends it to its nearest unassigned
 //!   vertex, by grid distance; ties drawn from the run's seed), improved by
 //!   local search (2-opt within routes, relocating waypoints off the longest
@@ -12,10 +18,11 @@
 //! - **Execution** ([`exec`]): real trajectories, one traversable edge per
 //!   robot per round, all robots at once. Collisions are avoided in the
 //!   plan's execution by waiting a round (robots kept waiting, then those
-//!   with the most left, go first), with detours, and robots in the way
-//!   stepping aside; a robot blocked for 20 rounds moves anyway and that
-//!   counts as a collision, costing no time (none on the built-in maps in
-//!   the tests).
+//!   with the most left, go first), with detours, robots in the way
+//!   stepping aside, and a robot blocked for 20 rounds by another trading
+//!   the rest of its route with it; only a robot blocked for 100 rounds
+//!   would move anyway, counted as a collision (none in the tests' runs on
+//!   the built-in and random maps).
 //! - **Time**: motion only, per the params' move model as the world charges
 //!   it: a round lasts `t_trans` if any robot translates (or waits for
 //!   another), plus `t_rot` if any robot turns; no radio protocol, no
@@ -23,6 +30,7 @@
 //!   last target is detected (within `r_st` of a robot's vertex), situation
 //!   2 when every vertex of `Va` has been visited.
 
+mod cover;
 mod exec;
 mod plan;
 #[cfg(test)]
@@ -97,15 +105,26 @@ pub fn run_prepared(ow: &OracleWorld, starts: &[VertexId], cfg: &RunConfig) -> R
     let d = ow.table(&va);
     let compact: Vec<u32> = starts.iter().map(|&s| d.index[s as usize]).collect();
     let mut rng = ChaCha8Rng::seed_from_u64(rng::derive(cfg.seed, STREAM));
-    let routes = plan::plan(&d, &compact, &mut rng);
-    Search::new(world, &d, starts, cfg, routes).run()
+    let every;
+    let need: &[bool] = match cfg.situation {
+        Situation::One => d.cover.get_or_init(|| cover::waypoints(world, &d)),
+        Situation::Two => {
+            every = vec![true; d.len()];
+            &every
+        }
+    };
+    let routes = plan::plan(&d, &compact, need, &mut rng);
+    Search::new(world, &d, starts, cfg, routes, rng).run()
 }
 
 /// The execution's bookkeeping: what is found, the clock, the records.
 struct Search<'a> {
     world: &'a World,
+    d: &'a plan::Dist,
     cfg: &'a RunConfig,
     exec: Exec<'a>,
+    /// The plan's stream, for planning again.
+    rng: ChaCha8Rng,
     found: Bitset,
     /// `|Va|`; robots move only within it.
     va_len: usize,
@@ -127,12 +146,15 @@ impl<'a> Search<'a> {
         starts: &[VertexId],
         cfg: &'a RunConfig,
         routes: Vec<plan::Route>,
+        rng: ChaCha8Rng,
     ) -> Self {
         let exec = Exec::new(world, d, routes);
         let mut s = Search {
             world,
+            d,
             cfg,
             exec,
+            rng,
             found: Bitset::new(world.targets.len()),
             va_len: d.len(),
             robots: starts.len(),
@@ -172,7 +194,7 @@ impl<'a> Search<'a> {
 
     fn run(mut self) -> RunResult {
         let n = self.robots;
-        while !self.done() && self.rounds < self.cfg.max_rounds && (0..n).any(|k| self.exec.busy(k)) {
+        while !self.done() && self.rounds < self.cfg.max_rounds && (self.busy() || self.replan()) {
             let busy = (0..n).filter(|&k| self.exec.busy(k)).count() as u64;
             let before: Vec<VertexId> = (0..n).map(|k| self.exec.position(k)).collect();
             let round = self.exec.step();
@@ -192,6 +214,25 @@ impl<'a> Search<'a> {
             self.sense();
         }
         self.finish(n)
+    }
+
+    fn busy(&self) -> bool {
+        (0..self.robots).any(|k| self.exec.busy(k))
+    }
+
+    /// Every waypoint visited and targets still missing (the sampled cover
+    /// missed a sliver): a plan for the vertices of `Va` not visited yet.
+    /// Whether any robot has somewhere to go.
+    fn replan(&mut self) -> bool {
+        let d = self.d;
+        let need: Vec<bool> = d.verts.iter().map(|&v| !self.exec.visited.get(v as usize)).collect();
+        if !need.contains(&true) {
+            return false;
+        }
+        let at: Vec<u32> = (0..self.robots).map(|k| self.exec.at(k)).collect();
+        let routes = plan::plan(d, &at, &need, &mut self.rng);
+        self.exec.replan(routes);
+        self.busy()
     }
 
     fn finish(self, n: usize) -> RunResult {

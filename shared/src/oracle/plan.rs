@@ -1,5 +1,7 @@
 //! The oracle's plan: which vertices each robot visits, in which order.
-//! Every vertex of `Va` is a waypoint of exactly one robot; a route's
+//! Every waypoint (every vertex of `Va`, or in situation 1 those whose
+//! sensing discs cover the area: [`super::cover`]) is a waypoint of
+//! exactly one robot or a start; a route's
 //! length is the sum of grid distances (breadth-first, over traversable
 //! edges) between its consecutive waypoints, from the robot's start. The
 //! plan minimizes the longest route (the makespan, in moves): a greedy
@@ -37,6 +39,8 @@ pub(super) struct Dist {
     /// Neighbours of each compact vertex, in adjacency-slot order.
     pub adj: Vec<Vec<u32>>,
     d: Vec<u16>,
+    /// Situation 1's waypoints ([`super::cover`]), made on first use.
+    pub cover: std::sync::OnceLock<Vec<bool>>,
 }
 
 impl Dist {
@@ -58,7 +62,7 @@ impl Dist {
             })
             .collect();
         let n = verts.len();
-        let mut dist = Dist { verts, index, adj, d: vec![u16::MAX; n * n] };
+        let mut dist = Dist { verts, index, adj, d: vec![u16::MAX; n * n], cover: std::sync::OnceLock::new() };
         let mut queue = Vec::with_capacity(n);
         for s in 0..n {
             dist.bfs(s, &mut queue);
@@ -126,18 +130,19 @@ impl Route {
     }
 }
 
-/// The plan for robots starting at `starts` (compact): the better of the
-/// greedy routes and one robot's tour cut into consecutive shares, each
-/// improved by local search. The shares bound the makespan by
-/// `ceil(tour / robots)` plus the farthest any robot is from any vertex.
-pub(super) fn plan(d: &Dist, starts: &[u32], rng: &mut ChaCha8Rng) -> Vec<Route> {
+/// The plan for robots starting at `starts` (compact) to visit every
+/// vertex `need` marks: the better of the greedy routes and one robot's
+/// tour cut into consecutive shares, each improved by local search. The
+/// shares bound the makespan by `ceil(tour / robots)` plus the farthest any
+/// robot is from any vertex.
+pub(super) fn plan(d: &Dist, starts: &[u32], need: &[bool], rng: &mut ChaCha8Rng) -> Vec<Route> {
     // Robot 0's tour first: it is then the one-robot plan of the same stream.
-    let mut tour = greedy(d, &starts[..1], rng);
+    let mut tour = greedy(d, &starts[..1], need, rng);
     improve(d, &mut tour);
     if starts.len() == 1 {
         return tour;
     }
-    let mut routes = greedy(d, starts, rng);
+    let mut routes = greedy(d, starts, need, rng);
     improve(d, &mut routes);
     {
         let mut shared = split(d, starts, &tour[0].stops);
@@ -192,13 +197,14 @@ fn split(d: &Dist, starts: &[u32], tour: &[u32]) -> Vec<Route> {
     best
 }
 
-/// Robots extend their routes one nearest uncovered vertex at a time, the
-/// robot whose route ends earliest first; vertices passed on the way become
-/// waypoints too. Ties between nearest vertices are drawn from `rng`.
-fn greedy(d: &Dist, starts: &[u32], rng: &mut ChaCha8Rng) -> Vec<Route> {
+/// Robots extend their routes one nearest needed vertex at a time, the
+/// robot whose route ends earliest first; needed vertices passed on the
+/// way become waypoints too. Ties between nearest vertices are drawn from
+/// `rng`.
+fn greedy(d: &Dist, starts: &[u32], need: &[bool], rng: &mut ChaCha8Rng) -> Vec<Route> {
     let n = d.len();
-    let mut covered = vec![false; n];
-    let mut left = n;
+    let mut covered: Vec<bool> = need.iter().map(|&x| !x).collect();
+    let mut left = need.iter().filter(|&&x| x).count();
     for &s in starts {
         if !std::mem::replace(&mut covered[s as usize], true) {
             left -= 1;
