@@ -113,7 +113,7 @@ mod tests {
     fn steps(neighbour: bool) -> Vec<f64> {
         let g = &Grid::new(Lattice::new(LatticeKind::Triangular, 1.0), Point::new(-6.0, -6.0), Point::new(6.0, 6.0));
         let at = |i, j| g.id_of(Coord::new(i, j)).unwrap();
-        let mut map = Map::new(g.len(), 0);
+        let mut map = Map::new(g.len());
         for v in 0..g.len() as VertexId {
             map.set_known(v, true);
             map.set_visited(v, true);
