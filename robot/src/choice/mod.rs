@@ -29,6 +29,7 @@ pub mod paths;
 pub mod registry;
 pub mod repulsive;
 pub mod ru;
+pub mod sensed;
 pub mod sequential;
 
 use rand::Rng;
@@ -42,7 +43,11 @@ pub use registry::{register, rule_for, Factory, RuleName};
 
 /// Rules compiled into every program of the workspace, by name: one line
 /// per rule added in this folder.
-pub const EXTRA: &[(&str, Factory)] = &[("frontier-coord", coord::new)];
+pub const EXTRA: &[(&str, Factory)] = &[
+    ("frontier-coord", coord::new),
+    ("frontier-sensed", sensed::new),
+    ("frontier-sensed-coord", sensed::new_coord),
+];
 
 /// The generator a rule draws from: the robot's own, seeded from the run.
 pub type RuleRng = ChaCha8Rng;
