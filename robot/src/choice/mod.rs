@@ -9,8 +9,9 @@
 //! so a rule is deterministic per seed and the same in both engines.
 //!
 //! Built-in rules live one per file ([`repulsive`], [`sequential`],
-//! [`ru`], [`escape`], [`frontier`], and [`coord`], registered by name
-//! as `frontier-coord` in [`EXTRA`]); [`paths`] holds the breadth-first
+//! [`ru`], [`escape`], [`frontier`], and, registered by name in
+//! [`EXTRA`], [`coord`] as `frontier-coord` and [`sensed`] as
+//! `frontier-sensed` and `frontier-sensed-coord`); [`paths`] holds the breadth-first
 //! search several of them share. A researcher's rule is one file too,
 //! implementing [`ChoiceRule`], made known by name in one of two ways:
 //!
