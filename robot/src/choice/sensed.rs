@@ -146,6 +146,12 @@ impl FrontierSensed {
         self.best.retain(|&v| gain(g, map, v) == best_gain);
         let t = uniform(rng, &self.best)?;
         let steps = self.paths.first_steps(view, t, &self.closed);
+        if steps.is_empty() {
+            // The way back from the frontier was not found (on the
+            // honeycomb lattice an edge known from one end only can read
+            // closed from the other): never stay for good on it.
+            return self.fallback.choose(view, rng);
+        }
         uniform(rng, &steps)
     }
 
