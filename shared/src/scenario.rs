@@ -165,7 +165,7 @@ impl ScenarioError {
 }
 
 /// Names of the built-in scenarios, the default first.
-pub const BUILTIN: &[&str] = &["paper", "open", "cave", "large", "small"];
+pub const BUILTIN: &[&str] = &["paper", "open", "cave", "large", "small", "comb"];
 
 fn builtin_text(name: &str) -> Option<&'static str> {
     Some(match name {
@@ -174,6 +174,7 @@ fn builtin_text(name: &str) -> Option<&'static str> {
         "cave" => include_str!("../scenarios/cave.toml"),
         "large" => include_str!("../scenarios/large.toml"),
         "small" => include_str!("../scenarios/small.toml"),
+        "comb" => include_str!("../scenarios/comb.toml"),
         _ => return None,
     })
 }

@@ -356,7 +356,7 @@ mod tests {
 
     #[test]
     fn cells_change_nothing() {
-        let mut worlds: Vec<World> = ["paper", "cave", "large", "open", "small"]
+        let mut worlds: Vec<World> = ["paper", "cave", "large", "open", "small", "comb"]
             .iter()
             .map(|n| crate::scenario::Scenario::builtin(n).unwrap().world())
             .collect();

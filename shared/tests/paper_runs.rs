@@ -70,3 +70,56 @@ fn situation_two_visits_every_vertex_of_va() {
         assert!(r.coverage.unwrap() > 0.999, "{policy}: {:?}", r.coverage);
     }
 }
+
+#[test]
+fn comb_loads_and_every_grid_rule_completes_it() {
+    let s = Scenario::load("comb").unwrap();
+    assert_eq!((s.name.as_str(), s.targets.len()), ("comb", 9));
+    let world = s.world();
+    let all = s.start_vertices(&world, 13).unwrap();
+    let mut policies = vec![Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Escape, Policy::Frontier];
+    policies.extend(["frontier-coord", "frontier-sensed", "frontier-sensed-coord"].map(|n| n.parse::<Policy>().unwrap()));
+    for policy in policies {
+        for robots in [1, 5, 13] {
+            for seed in 0..4 {
+                let situation = if seed % 2 == 0 { Situation::One } else { Situation::Two };
+                let mut cfg = quick(policy, seed, situation);
+                cfg.measure_coverage = situation == Situation::Two;
+                // The paper's random walk over visited vertices takes one
+                // robot some 20,000 rounds out of the comb's teeth.
+                cfg.max_rounds = 10 * BOUND;
+                let r = engine::run(&world, &all[..robots], &cfg);
+                let tag = format!("{policy} robots={robots} seed={seed} {situation:?}");
+                assert!(r.complete, "{tag}");
+                assert_eq!(r.targets_found, r.targets_total, "{tag}");
+                if policy != Policy::Ru {
+                    assert_eq!(r.collisions, 0, "{tag}");
+                }
+                if situation == Situation::Two {
+                    assert!(r.coverage.unwrap() > 0.999, "{tag}: {:?}", r.coverage);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_sensed_frontier_rules_complete_on_every_lattice() {
+    use gridswarm::lattice::LatticeKind;
+    for grid in [LatticeKind::Triangular, LatticeKind::Square, LatticeKind::Hexagonal] {
+        let mut s = Scenario::load("paper").unwrap();
+        s.grid = grid;
+        let world = s.world();
+        let all = s.start_vertices(&world, 7).unwrap();
+        for name in ["frontier-sensed", "frontier-sensed-coord"] {
+            let policy: Policy = name.parse().unwrap();
+            for seed in 0..4 {
+                let situation = if seed % 2 == 0 { Situation::One } else { Situation::Two };
+                let r = engine::run(&world, &all, &quick(policy, seed, situation));
+                let tag = format!("{name} {grid:?} seed={seed} {situation:?}");
+                assert!(r.complete && r.rounds < BOUND, "{tag}");
+                assert_eq!(r.collisions, 0, "{tag}");
+            }
+        }
+    }
+}

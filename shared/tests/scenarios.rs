@@ -45,7 +45,7 @@ polygon = [[0, 0], [10, 0], [10, 10], [0, 10]]
 #[test]
 fn builtins_parse_and_meet_every_assumption() {
     assert_eq!(Scenario::default_name(), "paper");
-    assert_eq!(BUILTIN, &["paper", "open", "cave", "large", "small"]);
+    assert_eq!(BUILTIN, &["paper", "open", "cave", "large", "small", "comb"]);
     for &name in BUILTIN {
         let s = Scenario::builtin(name).expect(name);
         assert_eq!(s.name, name);

@@ -109,7 +109,9 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
     ];
     let mut compared = 0;
     for &(scenario, robots, seed, situations) in cases {
-        for policy in ["repulsive", "sequential", "ru", "escape", "frontier", "frontier-coord"] {
+        for policy in
+            ["repulsive", "sequential", "ru", "escape", "frontier", "frontier-coord", "frontier-sensed", "frontier-sensed-coord"]
+        {
             for sit in situations.chars().map(|c| c.to_string()) {
                 let args = [
                     "--scenario",
@@ -133,7 +135,7 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
             }
         }
     }
-    assert_eq!(compared, 30);
+    assert_eq!(compared, 40);
 }
 
 /// With `--starts random` the world-server draws the layout from the seed

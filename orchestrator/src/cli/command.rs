@@ -436,7 +436,7 @@ impl ProtocolArgs {
 /// The map a command searches.
 #[derive(clap::Args, Debug)]
 struct ScenarioArg {
-    /// Built-in scenario (paper, open, cave, large, small), a TOML file, a ROS map_server map
+    /// Built-in scenario (paper, open, cave, large, small, comb), a TOML file, a ROS map_server map
     /// (NAME.yaml), or a random map random:SEED[,options] (see `gridswarm check --help`).
     #[arg(long, default_value = "paper")]
     scenario: String,

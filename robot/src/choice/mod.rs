@@ -9,8 +9,9 @@
 //! so a rule is deterministic per seed and the same in both engines.
 //!
 //! Built-in rules live one per file ([`repulsive`], [`sequential`],
-//! [`ru`], [`escape`], [`frontier`], and [`coord`], registered by name
-//! as `frontier-coord` in [`EXTRA`]); [`paths`] holds the breadth-first
+//! [`ru`], [`escape`], [`frontier`], and, registered by name in
+//! [`EXTRA`], [`coord`] as `frontier-coord` and [`sensed`] as
+//! `frontier-sensed` and `frontier-sensed-coord`); [`paths`] holds the breadth-first
 //! search several of them share. A researcher's rule is one file too,
 //! implementing [`ChoiceRule`], made known by name in one of two ways:
 //!
@@ -29,6 +30,7 @@ pub mod paths;
 pub mod registry;
 pub mod repulsive;
 pub mod ru;
+pub mod sensed;
 pub mod sequential;
 
 use rand::Rng;
@@ -42,7 +44,11 @@ pub use registry::{register, rule_for, Factory, RuleName};
 
 /// Rules compiled into every program of the workspace, by name: one line
 /// per rule added in this folder.
-pub const EXTRA: &[(&str, Factory)] = &[("frontier-coord", coord::new)];
+pub const EXTRA: &[(&str, Factory)] = &[
+    ("frontier-coord", coord::new),
+    ("frontier-sensed", sensed::new),
+    ("frontier-sensed-coord", sensed::new_coord),
+];
 
 /// The generator a rule draws from: the robot's own, seeded from the run.
 pub type RuleRng = ChaCha8Rng;

@@ -178,6 +178,22 @@ impl Paths {
         slack: u32,
         out: &mut Vec<(VertexId, u32)>,
     ) -> Option<u32> {
+        self.unvisited_within_where(grid, map, from, blocked, slack, out, |_, _| true)
+    }
+
+    /// [`Paths::unvisited_within`] among the unvisited vertices `v` at
+    /// distance `d` for which `accept(v, d)` holds.
+    #[allow(clippy::too_many_arguments)]
+    pub fn unvisited_within_where(
+        &mut self,
+        grid: &Grid,
+        map: &Map,
+        from: VertexId,
+        blocked: &[VertexId],
+        slack: u32,
+        out: &mut Vec<(VertexId, u32)>,
+        accept: impl Fn(VertexId, u32) -> bool,
+    ) -> Option<u32> {
         out.clear();
         let g = self.start(grid.len(), &[from], blocked);
         let mut level = None;
@@ -186,7 +202,7 @@ impl Paths {
             if level.is_some_and(|l: u32| d > l + slack) {
                 return true;
             }
-            if v != from && !map.visited(v) {
+            if v != from && !map.visited(v) && accept(v, d) {
                 level.get_or_insert(d);
                 out.push((v, d));
             }
