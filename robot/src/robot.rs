@@ -657,8 +657,10 @@ impl<'g> Robot<'g> {
     /// Step 5 proper: the policy's rule picks among `cands`; anything but
     /// a candidate is staying.
     fn pick(&mut self, cands: &[VertexId]) -> Option<VertexId> {
-        if let Some(step) = self.survivor_step(cands) {
-            return Some(step);
+        if !self.rule.passes_unvisited() {
+            if let Some(step) = self.survivor_step(cands) {
+                return Some(step);
+            }
         }
         self.collect_blocked(true, true);
         let mut views = std::mem::take(&mut self.views);

@@ -49,8 +49,24 @@ use crate::world::World;
 /// needs no file), with the share of cases each gets, in 1/100.
 pub const SCENARIOS: [(&str, u64); 7] =
     [("small", 70), ("paper", 8), ("cave", 8), ("random:1", 4), ("random:2", 4), ("random:3", 3), ("random:4", 3)];
-/// Every grid algorithm.
-pub const POLICIES: [Policy; 5] = [Policy::Repulsive, Policy::Sequential, Policy::Escape, Policy::Frontier, Policy::Ru];
+/// Every grid algorithm, by name: the rules registered by name
+/// (`frontier-coord`, `frontier-sensed`, `frontier-sensed-coord`) as much as
+/// the paper's and the built-in ones.
+pub const POLICIES: [&str; 8] = [
+    "repulsive",
+    "sequential",
+    "escape",
+    "frontier",
+    "ru",
+    "frontier-coord",
+    "frontier-sensed",
+    "frontier-sensed-coord",
+];
+
+/// [`POLICIES`]' algorithm `k`.
+pub fn policy(k: usize) -> Policy {
+    POLICIES[k].parse().expect("every name in POLICIES is a registered rule")
+}
 /// A case that has not ended after this many rounds fails the termination check.
 pub const MAX_ROUNDS: u32 = 2000;
 /// Delay plus jitter of most cases stays below this (µs), under the
@@ -87,7 +103,7 @@ pub fn case(seed: u64, index: u64) -> Case {
     let number = derive(seed, index);
     let scenario = pick_scenario(draw(number, 40, 100));
     let robots = team(number, scenario);
-    let policy = POLICIES[draw(number, 2, POLICIES.len() as u64) as usize];
+    let policy = policy(draw(number, 2, POLICIES.len() as u64) as usize);
     let situation = if draw(number, 3, 2) == 0 { Situation::One } else { Situation::Two };
     let mut cfg = RunConfig::new(policy, draw(number, 4, u64::MAX), situation);
     cfg.max_rounds = MAX_ROUNDS;

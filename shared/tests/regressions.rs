@@ -228,3 +228,27 @@ fn a_dropped_claim_does_not_forget_what_a_merged_map_sensed() {
                   --kill 19@0+1.368783 --slow 27@4+0.121661:2857 --slow 27@7:0";
     completes(29, cfg, replay);
 }
+
+#[test]
+fn a_rule_that_passes_unvisited_vertices_is_not_pulled_back_by_the_survivor_step() {
+    // Found by the simulation test once it drew `frontier-sensed`: after
+    // robot 2's crash was declared, a robot with every neighbour visited
+    // took the core's survivor step towards the nearest unvisited vertex,
+    // and next round, with that vertex next to it and counted as sensed,
+    // the rule headed past it for a frontier: back and forth until the
+    // round limit. A rule that passes unvisited vertices on purpose now
+    // keeps the choice (`ChoiceRule::passes_unvisited`).
+    let policy: Policy = "frontier-sensed".parse().unwrap();
+    let mut cfg = config(policy, 9142778636017589672, Situation::Two, vec![]);
+    cfg.faults = vec![Fault { robot: 2, round: 19, offset: 65_985, kind: FaultKind::Crash }];
+    cfg.radio = Radio { delay: 2_010, ..Radio::default() };
+    cfg.max_rounds = 2000;
+    ends_on(
+        "small",
+        3,
+        cfg,
+        "--algorithm frontier-sensed --seed 9142778636017589672 --situation 2 --max-rounds 2000 --delay 2.01:0 \
+         --kill 2@19+0.065985",
+        &["stop", "cut_off"],
+    );
+}

@@ -122,6 +122,17 @@ impl View<'_> {
 pub trait ChoiceRule: Send {
     /// The next vertex, one of `view.candidates`, or `None` to stay.
     fn choose(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId>;
+
+    /// Whether the rule may pass unvisited vertices on purpose and heads
+    /// for the ones it wants by itself. Once failures are known the core
+    /// steps a robot with every candidate visited towards its nearest
+    /// unvisited vertex ([`crate::robot::Robot`]'s survivor step); a rule
+    /// that walks past unvisited vertices it counts as sensed would be
+    /// pulled back one round and go on the next, for ever. Such a rule
+    /// says so here, and the core leaves the choice to it.
+    fn passes_unvisited(&self) -> bool {
+        false
+    }
 }
 
 /// Up to one vertex per adjacency slot, without allocating.

@@ -113,6 +113,12 @@ impl ChoiceRule for FrontierSensed {
         self.others.release();
         step
     }
+
+    /// It skips rows it counts as sensed, and heads for the nearest
+    /// unvisited vertex itself when no frontier is left.
+    fn passes_unvisited(&self) -> bool {
+        true
+    }
 }
 
 impl FrontierSensed {
