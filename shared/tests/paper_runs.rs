@@ -78,7 +78,8 @@ fn comb_loads_and_every_grid_rule_completes_it() {
     let world = s.world();
     let all = s.start_vertices(&world, 13).unwrap();
     let mut policies = vec![Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Escape, Policy::Frontier];
-    policies.extend(["frontier-coord", "frontier-sensed", "frontier-sensed-coord"].map(|n| n.parse::<Policy>().unwrap()));
+    policies
+        .extend(["frontier-coord", "frontier-sensed", "frontier-sensed-coord"].map(|n| n.parse::<Policy>().unwrap()));
     for policy in policies {
         for robots in [1, 5, 13] {
             for seed in 0..4 {

@@ -44,11 +44,8 @@ pub use registry::{register, rule_for, Factory, RuleName};
 
 /// Rules compiled into every program of the workspace, by name: one line
 /// per rule added in this folder.
-pub const EXTRA: &[(&str, Factory)] = &[
-    ("frontier-coord", coord::new),
-    ("frontier-sensed", sensed::new),
-    ("frontier-sensed-coord", sensed::new_coord),
-];
+pub const EXTRA: &[(&str, Factory)] =
+    &[("frontier-coord", coord::new), ("frontier-sensed", sensed::new), ("frontier-sensed-coord", sensed::new_coord)];
 
 /// The generator a rule draws from: the robot's own, seeded from the run.
 pub type RuleRng = ChaCha8Rng;
