@@ -105,14 +105,14 @@ fn comb_loads_and_every_grid_rule_completes_it() {
 }
 
 #[test]
-fn the_sensed_frontier_rules_complete_on_every_lattice() {
+fn the_named_frontier_rules_complete_on_every_lattice() {
     use gridswarm::lattice::LatticeKind;
     for grid in [LatticeKind::Triangular, LatticeKind::Square, LatticeKind::Hexagonal] {
         let mut s = Scenario::load("paper").unwrap();
         s.grid = grid;
         let world = s.world();
         let all = s.start_vertices(&world, 7).unwrap();
-        for name in ["frontier-sensed", "frontier-sensed-coord"] {
+        for name in ["frontier-coord", "frontier-sensed", "frontier-sensed-coord"] {
             let policy: Policy = name.parse().unwrap();
             for seed in 0..4 {
                 let situation = if seed % 2 == 0 { Situation::One } else { Situation::Two };

@@ -53,16 +53,21 @@ impl FrontierCoord {
         self.close(view);
         let near =
             self.paths.unvisited_within(view.grid, view.map, view.position, &self.closed, RANGE, &mut self.found);
-        if near.is_none() {
-            // No frontier the robot can start towards this round: a random
-            // step, as `frontier` takes, keeps corridors from jamming.
-            let (_, visited) = view.split();
-            return uniform(rng, &visited);
+        if near.is_some() {
+            self.discount(view);
+            let t = uniform(rng, &self.best)?;
+            let steps = self.paths.first_steps(view, t, &self.closed);
+            if !steps.is_empty() {
+                return uniform(rng, &steps);
+            }
+            // No way back from the frontier was found (on the honeycomb
+            // lattice an edge known from one end only can read closed from
+            // the other): staying here would be for good.
         }
-        self.discount(view);
-        let t = uniform(rng, &self.best)?;
-        let steps = self.paths.first_steps(view, t, &self.closed);
-        uniform(rng, &steps)
+        // No frontier the robot can start towards this round: a random
+        // step, as `frontier` takes, keeps corridors from jamming.
+        let (_, visited) = view.split();
+        uniform(rng, &visited)
     }
 
     /// Keeps in `best` the frontiers of least cost.
