@@ -16,11 +16,11 @@
 
 use super::paths::Paths;
 use super::{uniform, ChoiceRule, RuleRng, View};
-use crate::grid::{VertexId, NONE};
+use crate::grid::VertexId;
 
 /// Moves over which another robot's announced vertex discounts a frontier:
 /// about two sensing radii (`2 r_st` is 2.6 a with the defaults).
-const RANGE: u32 = 3;
+pub(super) const RANGE: u32 = 3;
 
 #[derive(Clone, Debug, Default)]
 pub struct FrontierCoord {
@@ -50,11 +50,11 @@ impl ChoiceRule for FrontierCoord {
 
 impl FrontierCoord {
     fn pick(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
-        self.close(view);
+        super::close(view, &mut self.closed);
         let near =
             self.paths.unvisited_within(view.grid, view.map, view.position, &self.closed, RANGE, &mut self.found);
         if near.is_some() {
-            self.discount(view);
+            discount(view, &mut self.others, &mut self.sources, &self.found, &mut self.best);
             let t = uniform(rng, &self.best)?;
             let steps = self.paths.first_steps(view, t, &self.closed);
             if !steps.is_empty() {
@@ -69,37 +69,31 @@ impl FrontierCoord {
         let (_, visited) = view.split();
         uniform(rng, &visited)
     }
+}
 
-    /// Keeps in `best` the frontiers of least cost.
-    fn discount(&mut self, view: &View<'_>) {
-        self.sources.clear();
-        self.sources.extend(view.neighbours.iter().filter(|n| n.searching).map(|n| n.choice.unwrap_or(n.at)));
-        let heard = !self.sources.is_empty();
-        if heard {
-            self.others.distances_from(view.grid, view.map, &self.sources, view.blocked);
-        }
-        let others = &self.others;
-        let cost = |&(v, d): &(VertexId, u32)| {
-            let o = if heard { others.dist(v).unwrap_or(RANGE) } else { RANGE };
-            d + RANGE.saturating_sub(o)
-        };
-        let least = self.found.iter().map(cost).min().unwrap_or(0);
-        self.best.clear();
-        self.best.extend(self.found.iter().filter(|f| cost(f) == least).map(|f| f.0));
+/// Keeps in `best` those of `found` (frontiers with their distances) of
+/// least cost: distance plus the discount near the searching neighbours'
+/// announced vertices (`sources` and `others` are scratch space).
+pub(super) fn discount(
+    view: &View<'_>,
+    others: &mut Paths,
+    sources: &mut Vec<VertexId>,
+    found: &[(VertexId, u32)],
+    best: &mut Vec<VertexId>,
+) {
+    sources.clear();
+    sources.extend(view.neighbours.iter().filter(|n| n.searching).map(|n| n.choice.unwrap_or(n.at)));
+    let heard = !sources.is_empty();
+    if heard {
+        others.distances_from(view.grid, view.map, sources, view.blocked);
     }
-
-    /// Blocked vertices and the adjacent ones the core does not allow this
-    /// round: paths start with a candidate.
-    fn close(&mut self, view: &View<'_>) {
-        self.closed.clear();
-        self.closed.extend_from_slice(view.blocked);
-        let g = view.grid;
-        for &n in &g.neighbors(view.position)[..g.degree()] {
-            if n != NONE && !view.candidates.contains(&n) {
-                self.closed.push(n);
-            }
-        }
-    }
+    let cost = |&(v, d): &(VertexId, u32)| {
+        let o = if heard { others.dist(v).unwrap_or(RANGE) } else { RANGE };
+        d + RANGE.saturating_sub(o)
+    };
+    let least = found.iter().map(cost).min().unwrap_or(0);
+    best.clear();
+    best.extend(found.iter().filter(|f| cost(f) == least).map(|f| f.0));
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@
 
 use super::paths::Paths;
 use super::{uniform, ChoiceRule, RuleRng, View};
-use crate::grid::{VertexId, NONE};
+use crate::grid::VertexId;
 
 #[derive(Clone, Debug, Default)]
 pub struct Frontier {
@@ -51,21 +51,10 @@ impl Frontier {
     /// among those the robot can start towards this round (its first step
     /// a candidate); `None` when there is none.
     pub fn towards_reachable(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
-        self.close(view);
+        super::close(view, &mut self.closed);
         self.paths.nearest_unvisited(view.grid, view.map, view.position, &self.closed, &mut self.nearest)?;
         let t = uniform(rng, &self.nearest)?;
         let steps = self.paths.first_steps(view, t, &self.closed);
         uniform(rng, &steps)
-    }
-
-    fn close(&mut self, view: &View<'_>) {
-        self.closed.clear();
-        self.closed.extend_from_slice(view.blocked);
-        let g = view.grid;
-        for &n in &g.neighbors(view.position)[..g.degree()] {
-            if n != NONE && !view.candidates.contains(&n) {
-                self.closed.push(n);
-            }
-        }
     }
 }

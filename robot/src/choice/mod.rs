@@ -132,6 +132,20 @@ pub trait ChoiceRule: Send {
     }
 }
 
+/// Into `closed`, what a path this round may not pass: the blocked
+/// vertices, and the adjacent ones the core does not allow this round (so
+/// paths start with a candidate).
+pub(crate) fn close(view: &View<'_>, closed: &mut Vec<VertexId>) {
+    closed.clear();
+    closed.extend_from_slice(view.blocked);
+    let g = view.grid;
+    for &n in &g.neighbors(view.position)[..g.degree()] {
+        if n != crate::grid::NONE && !view.candidates.contains(&n) {
+            closed.push(n);
+        }
+    }
+}
+
 /// Up to one vertex per adjacency slot, without allocating.
 #[derive(Clone, Copy, Debug)]
 pub struct Slots {

@@ -33,15 +33,12 @@
 //! can start towards, it behaves as `frontier` (nearest known unvisited
 //! vertex, else a random step), so it keeps making progress towards that.
 
+use super::coord::{discount, RANGE};
 use super::frontier::Frontier;
 use super::paths::Paths;
 use super::{uniform, ChoiceRule, RuleRng, View};
 use crate::grid::{Grid, VertexId, NONE};
 use crate::map::Map;
-
-/// Moves over which a neighbour's announced vertex discounts a frontier
-/// (as in `frontier-coord`).
-const RANGE: u32 = 3;
 
 /// The triangles `v` is a corner of: pairs of consecutive adjacency slots,
 /// both inside the grid (on the triangular lattice, consecutive neighbours
@@ -123,7 +120,7 @@ impl ChoiceRule for FrontierSensed {
 
 impl FrontierSensed {
     fn pick(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
-        self.close(view);
+        super::close(view, &mut self.closed);
         let (g, map) = (view.grid, view.map);
         let found = if self.coordinated {
             self.paths
@@ -143,7 +140,7 @@ impl FrontierSensed {
             return self.fallback.choose(view, rng);
         }
         if self.coordinated {
-            self.discount(view);
+            discount(view, &mut self.others, &mut self.sources, &self.found, &mut self.best);
         } else {
             self.best.clear();
             self.best.extend_from_slice(&self.nearest);
@@ -159,38 +156,6 @@ impl FrontierSensed {
             return self.fallback.choose(view, rng);
         }
         uniform(rng, &steps)
-    }
-
-    /// Keeps in `best` the frontiers of least cost (distance plus the
-    /// discount near the searching neighbours' announced vertices).
-    fn discount(&mut self, view: &View<'_>) {
-        self.sources.clear();
-        self.sources.extend(view.neighbours.iter().filter(|n| n.searching).map(|n| n.choice.unwrap_or(n.at)));
-        let heard = !self.sources.is_empty();
-        if heard {
-            self.others.distances_from(view.grid, view.map, &self.sources, view.blocked);
-        }
-        let others = &self.others;
-        let cost = |&(v, d): &(VertexId, u32)| {
-            let o = if heard { others.dist(v).unwrap_or(RANGE) } else { RANGE };
-            d + RANGE.saturating_sub(o)
-        };
-        let least = self.found.iter().map(cost).min().unwrap_or(0);
-        self.best.clear();
-        self.best.extend(self.found.iter().filter(|f| cost(f) == least).map(|f| f.0));
-    }
-
-    /// Blocked vertices and the adjacent ones the core does not allow this
-    /// round: paths start with a candidate.
-    fn close(&mut self, view: &View<'_>) {
-        self.closed.clear();
-        self.closed.extend_from_slice(view.blocked);
-        let g = view.grid;
-        for &n in &g.neighbors(view.position)[..g.degree()] {
-            if n != NONE && !view.candidates.contains(&n) {
-                self.closed.push(n);
-            }
-        }
     }
 }
 
