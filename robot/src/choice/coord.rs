@@ -14,6 +14,7 @@
 //! their next vertex). Ties are broken at random, as are shortest paths'
 //! first steps.
 
+use super::frontier::Frontier;
 use super::paths::Paths;
 use super::{uniform, ChoiceRule, RuleRng, View};
 use crate::grid::VertexId;
@@ -32,6 +33,8 @@ pub struct FrontierCoord {
     best: Vec<VertexId>,
     sources: Vec<VertexId>,
     closed: Vec<VertexId>,
+    /// What to do when no way to the chosen frontier is found.
+    fallback: Frontier,
 }
 
 /// A fresh rule, for the registry.
@@ -62,7 +65,9 @@ impl FrontierCoord {
             }
             // No way back from the frontier was found (on the honeycomb
             // lattice an edge known from one end only can read closed from
-            // the other): staying here would be for good.
+            // the other): staying, or stepping at random, would be for
+            // good; `frontier` takes the unvisited vertex next to it first.
+            return self.fallback.choose(view, rng);
         }
         // No frontier the robot can start towards this round: a random
         // step, as `frontier` takes, keeps corridors from jamming.
