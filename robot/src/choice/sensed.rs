@@ -85,7 +85,6 @@ pub struct FrontierSensed {
     paths: Paths,
     others: Paths,
     found: Vec<(VertexId, u32)>,
-    nearest: Vec<VertexId>,
     best: Vec<VertexId>,
     sources: Vec<VertexId>,
     closed: Vec<VertexId>,
@@ -122,18 +121,14 @@ impl FrontierSensed {
     fn pick(&mut self, view: &View<'_>, rng: &mut RuleRng) -> Option<VertexId> {
         super::close(view, &mut self.closed);
         let (g, map) = (view.grid, view.map);
-        let found = if self.coordinated {
-            self.paths
-                .unvisited_within_where(g, map, view.position, &self.closed, RANGE, &mut self.found, |v, _| {
-                    is_frontier(g, map, v)
-                })
-                .is_some()
-        } else {
-            self.paths
-                .nearest_where(g, map, view.position, &self.closed, &mut self.nearest, |v, _| is_frontier(g, map, v))
-                .is_some()
-        };
-        if !found {
+        // The coordinated twin weighs frontiers up to RANGE moves past the
+        // nearest; the plain rule only the nearest.
+        let slack = if self.coordinated { RANGE } else { 0 };
+        let near =
+            self.paths.unvisited_within_where(g, map, view.position, &self.closed, slack, &mut self.found, |v, _| {
+                is_frontier(g, map, v)
+            });
+        if near.is_none() {
             // No frontier the robot can start towards: head for the nearest
             // unvisited vertex as `frontier` does, so the core's stop rule
             // (every known vertex visited) is still reached.
@@ -143,7 +138,7 @@ impl FrontierSensed {
             discount(view, &mut self.others, &mut self.sources, &self.found, &mut self.best);
         } else {
             self.best.clear();
-            self.best.extend_from_slice(&self.nearest);
+            self.best.extend(self.found.iter().map(|f| f.0));
         }
         let best_gain = self.best.iter().map(|&v| gain(g, map, v)).max().unwrap_or(0);
         self.best.retain(|&v| gain(g, map, v) == best_gain);
