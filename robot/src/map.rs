@@ -163,6 +163,31 @@ impl<'de> Deserialize<'de> for Map {
 }
 
 impl Map {
+    /// The bytes postcard writes for this map (the fields of [`Flat`]),
+    /// without writing them: the bitsets' words one varint each, the edge
+    /// masks a byte a vertex, the lists as they are.
+    pub fn wire_len(&self) -> usize {
+        use crate::protocol::{size_of, varint_len};
+        let words = |known| {
+            let (mut len, mut bytes) = (0u64, 0);
+            for w in self.cells.words(known) {
+                len += 1;
+                bytes += varint_len(w);
+            }
+            varint_len(len) + bytes
+        };
+        let v = self.cells.vertices();
+        words(false)
+            + words(true)
+            + varint_len(v as u64)
+            + v
+            + size_of(&self.targets)
+            + size_of(&self.failed)
+            + size_of(&self.alive)
+            + size_of(&self.bodies)
+            + size_of(&self.freed)
+    }
+
     pub fn new(vertices: usize, targets: usize) -> Self {
         Map {
             cells: Tiles::new(vertices),

@@ -142,6 +142,10 @@ impl Framed for Rc<Frame> {
     fn carries_stop(&self) -> bool {
         Frame::carries_stop(self)
     }
+
+    fn wire_len(&self) -> usize {
+        Frame::wire_len(self)
+    }
 }
 
 impl Framed for Rc<[u8]> {
@@ -159,6 +163,10 @@ impl Framed for Rc<[u8]> {
                 .is_ok_and(|f| f.carries_stop()),
             _ => false,
         }
+    }
+
+    fn wire_len(&self) -> usize {
+        self.len()
     }
 }
 
@@ -192,6 +200,33 @@ pub enum DecodeError {
     Format(String),
     #[error("frame out of range: {0}")]
     Range(String),
+}
+
+/// How many bytes postcard writes for `v`, without writing them.
+pub(crate) fn size_of(v: &impl Serialize) -> usize {
+    postcard::serialize_with_flavor(v, postcard::ser_flavors::Size::default()).expect("sizes always serialize")
+}
+
+/// The bytes postcard takes for the unsigned integer `x` (7 bits a byte).
+#[inline]
+pub(crate) fn varint_len(x: u64) -> usize {
+    (64 - x.leading_zeros() as usize).div_ceil(7).max(1)
+}
+
+impl Frame {
+    /// `encode(self).len()`, without encoding: a map's length is summed
+    /// from its words ([`Map::wire_len`]), as sending one every slot to
+    /// count its bytes would cost more than the slot's other work.
+    pub fn wire_len(&self) -> usize {
+        let header = size_of(&self.header());
+        match self {
+            Frame::Map { round, from, at, sent, halted, stop, map } => {
+                // The variant's index (0), its fields in order, the map last.
+                header + 1 + size_of(&(round, from, at, sent, halted, stop)) + map.wire_len()
+            }
+            other => header + size_of(other),
+        }
+    }
 }
 
 /// The frame's header ([`Frame::header`]), then the frame.
@@ -290,6 +325,15 @@ mod tests {
     }
 
     #[test]
+    fn a_frames_length_is_its_encodings() {
+        for f in frames() {
+            assert_eq!(f.wire_len(), encode(&f).len(), "{f:?}");
+            let bytes: Rc<[u8]> = encode(&f).into();
+            assert_eq!(Framed::wire_len(&bytes), Framed::wire_len(&Rc::new(f)));
+        }
+    }
+
+    #[test]
     fn a_header_reads_the_same_from_the_frame_and_from_its_bytes() {
         let kinds: Vec<u8> = frames().iter().map(|f| f.header().kind).collect();
         assert_eq!(kinds, [KIND_MAP, KIND_CHOICE, KIND_ACK, KIND_COMMIT, KIND_FLOOD, KIND_WAIT]);
@@ -350,6 +394,32 @@ mod tests {
     }
 
     proptest! {
+        /// Maps of every size and content: long varints, empty tiles, lists.
+        #[test]
+        fn a_maps_length_is_its_encodings(
+            vertices in 1usize..1500,
+            marks in prop::collection::vec((any::<u32>(), any::<u8>(), 0u8..4), 0..300),
+            round in any::<u32>(),
+            sent in any::<u64>(),
+        ) {
+            let mut m = Map::new(vertices, 70);
+            for (v, bits, what) in marks {
+                let v = v % vertices as u32;
+                match what {
+                    0 => m.set_visited(v, true),
+                    1 => m.set_known(v, true),
+                    2 => m.or_open(v, bits | 1),
+                    _ => {
+                        m.targets.set(bits as usize % 70);
+                        m.add_failed(bits as RobotId, v, round);
+                        m.add_body(v, round / 2);
+                    }
+                }
+            }
+            let f = Frame::Map { round, from: 3, at: vertices as u32 - 1, sent, halted: true, stop: false, map: m };
+            prop_assert_eq!(f.wire_len(), encode(&f).len());
+        }
+
         #[test]
         fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
             if let Ok(f) = decode(&bytes, &LIMITS) {

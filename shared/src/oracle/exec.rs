@@ -35,6 +35,9 @@ struct Walker {
     blocked: u32,
     /// A path around blocking robots, followed before the route resumes.
     detour: Vec<u32>,
+    /// Moves made, and turns to a new direction among them.
+    moves: u32,
+    turns: u32,
 }
 
 /// What one round did.
@@ -65,7 +68,17 @@ impl<'a> Exec<'a> {
                 for p in (0..route.stops.len().saturating_sub(1)).rev() {
                     tail[p] = tail[p + 1] + d.get(route.stops[p], route.stops[p + 1]);
                 }
-                Walker { at: route.start, heading: None, route, next: 0, tail, blocked: 0, detour: Vec::new() }
+                Walker {
+                    at: route.start,
+                    heading: None,
+                    route,
+                    next: 0,
+                    tail,
+                    blocked: 0,
+                    detour: Vec::new(),
+                    moves: 0,
+                    turns: 0,
+                }
             })
             .collect();
         Exec { world, d, walkers, visited }
@@ -73,6 +86,11 @@ impl<'a> Exec<'a> {
 
     pub fn position(&self, k: usize) -> VertexId {
         self.d.verts[self.walkers[k].at as usize]
+    }
+
+    /// Robot `k`'s moves so far, and its turns among them.
+    pub fn moves_and_turns(&self, k: usize) -> (u32, u32) {
+        (self.walkers[k].moves, self.walkers[k].turns)
     }
 
     /// Whether robot `k` has waypoints left.
@@ -235,6 +253,8 @@ impl<'a> Exec<'a> {
             let dir = (b.i - a.i, b.j - a.j);
             round.translated = true;
             round.rotated |= w.heading != Some(dir);
+            w.turns += u32::from(w.heading != Some(dir));
+            w.moves += 1;
             w.heading = Some(dir);
             w.at = to;
             if w.detour.last() == Some(&to) {
