@@ -636,3 +636,70 @@ fn an_unwritable_out_fails_before_any_run() {
     assert!(t.elapsed().as_secs_f64() < 5.0, "ran before failing: {err}");
     assert!(!stdout(&o).contains("runs in"), "{}", stdout(&o));
 }
+
+/// Issue 22, item 4: every run's metrics in runs.csv, every cell's with
+/// their intervals in results.csv, the curves in coverage.csv, and the
+/// figures in the report.
+#[test]
+fn experiment_writes_each_runs_metrics() {
+    let d = scratch("experiment-metrics");
+    let out = d.join("out");
+    assert_ok(&gridswarm(&["experiment", "--runs", "4", "--robots", "1,4", "--seed", "2", "--out", path(&out)]));
+    let table = |name: &str| -> (Vec<String>, Vec<Vec<String>>) {
+        let text = fs::read_to_string(out.join(name)).unwrap();
+        let mut lines = text.lines().map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>());
+        (lines.next().unwrap(), lines.collect())
+    };
+    let col = |h: &[String], k: &str| h.iter().position(|c| c == k).unwrap_or_else(|| panic!("no column {k} in {h:?}"));
+
+    let (h, rows) = table("runs.csv");
+    assert_eq!(rows.len(), 4 * 2 * 4);
+    for row in &rows {
+        let get = |k: &str| row[col(&h, k)].as_str();
+        let coverage: f64 = get("coverage").parse().unwrap();
+        assert!(coverage > 0.0 && coverage <= 1.0, "{row:?}");
+        let times: Vec<f64> = get("target_times_s").split(';').map(|t| t.parse().unwrap()).collect();
+        assert_eq!(times.len().to_string(), get("targets_found"), "{row:?}");
+        assert!(times.windows(2).all(|w| w[0] <= w[1]) && times.last() <= Some(&get("search_time_s").parse().unwrap()));
+        assert!(get("distance_m").parse::<f64>().unwrap() > 0.0 && get("rotations").parse::<f64>().unwrap() >= 1.0);
+        // LFP has no radio; the grid policies send a map a slot at least.
+        let radio = get("algorithm") != "lfp";
+        assert_eq!(!get("frames").is_empty(), radio, "{row:?}");
+        if radio {
+            assert!(get("frames").parse::<f64>().unwrap() >= get("rounds").parse::<f64>().unwrap() / 2.0);
+            assert!(get("bytes").parse::<f64>().unwrap() > get("frames").parse::<f64>().unwrap());
+        }
+    }
+
+    let (h, rows) = table("results.csv");
+    for k in ["ci95_collisions", "mean_coverage", "ci95_coverage", "mean_half_coverage_s", "mean_distance_m"] {
+        col(&h, k);
+    }
+    for row in &rows {
+        let mean: f64 = row[col(&h, "mean_coverage")].parse().unwrap();
+        assert!(mean > 0.0 && mean <= 1.0 && !row[col(&h, "ci95_distance_m")].is_empty(), "{row:?}");
+        let targets = row[col(&h, "mean_target_times_s")].split(';').count();
+        assert_eq!(targets, 9, "every completed run of `paper` finds its 9 targets: {row:?}");
+    }
+
+    let (h, rows) = table("coverage.csv");
+    assert_eq!(rows.len(), 4 * 2 * gridswarm_orchestrator::curves::POINTS);
+    let mean = col(&h, "mean_coverage");
+    for cell in rows.chunks(gridswarm_orchestrator::curves::POINTS) {
+        let ys: Vec<f64> = cell.iter().map(|r| r[mean].parse().unwrap()).collect();
+        assert!(ys.windows(2).all(|w| w[0] <= w[1] + 1e-12) && ys[0] > 0.0, "{ys:?}");
+    }
+
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    for words in [
+        "Metrics of the runs",
+        "coverage against time",
+        "time to the k-th target",
+        "distance per robot",
+        "bytes sent per robot",
+        "coverage.csv",
+    ] {
+        assert!(html.contains(words), "{words} missing from the report");
+    }
+    assert!(html.matches("<svg").count() >= 4, "fig7 and the three metrics figures");
+}

@@ -202,30 +202,50 @@ pub enum DecodeError {
     Range(String),
 }
 
-/// How many bytes postcard writes for `v`, without writing them.
-pub(crate) fn size_of(v: &impl Serialize) -> usize {
-    postcard::serialize_with_flavor(v, postcard::ser_flavors::Size::default()).expect("sizes always serialize")
-}
-
 /// The bytes postcard takes for the unsigned integer `x` (7 bits a byte).
 #[inline]
 pub(crate) fn varint_len(x: u64) -> usize {
-    (64 - x.leading_zeros() as usize).div_ceil(7).max(1)
+    /// By leading zeros.
+    const LEN: [u8; 65] = {
+        let mut t = [1u8; 65];
+        let mut z = 0;
+        while z < 57 {
+            t[z] = (64 - z).div_ceil(7) as u8;
+            z += 1;
+        }
+        t
+    };
+    LEN[x.leading_zeros() as usize] as usize
 }
 
 impl Frame {
-    /// `encode(self).len()`, without encoding: a map's length is summed
-    /// from its words ([`Map::wire_len`]), as sending one every slot to
-    /// count its bytes would cost more than the slot's other work.
+    /// `encode(self).len()`, without encoding: summed by hand from the
+    /// fields as postcard writes them (a `u8` and a `bool` a byte, other
+    /// integers and lengths a varint), as every frame a robot sends is
+    /// counted and encoding its map would cost more than the slot's work.
     pub fn wire_len(&self) -> usize {
-        let header = size_of(&self.header());
-        match self {
-            Frame::Map { round, from, at, sent, halted, stop, map } => {
-                // The variant's index (0), its fields in order, the map last.
-                header + 1 + size_of(&(round, from, at, sent, halted, stop)) + map.wire_len()
+        let v = |x: u64| varint_len(x);
+        let ids = |l: &[RobotId]| v(l.len() as u64) + l.iter().map(|&r| v(r.into())).sum::<usize>();
+        let (round, from) = (v(self.round().into()), v(self.from().into()));
+        // Only acks and floods tag their header with more than a bit.
+        let tag = match self {
+            Frame::Ack { .. } | Frame::Flood { .. } => v(self.header().tag),
+            _ => 1,
+        };
+        // The header (kind, round, tag), then the variant's index (below 128: a byte).
+        let head = 1 + round + tag + 1;
+        head + round
+            + from
+            + match self {
+                Frame::Map { at, sent, map, .. } => v((*at).into()) + v(*sent) + 2 + map.wire_len(),
+                Frame::Choice { at, next, accounted, .. } => v((*at).into()) + v((*next).into()) + ids(accounted),
+                Frame::Ack { acked, refused, .. } => ids(acked) + ids(refused),
+                Frame::Commit { .. } => 1,
+                Frame::Flood { targets, .. } => {
+                    v(targets.len() as u64) + targets.iter().map(|&t| v(t.into())).sum::<usize>() + 1
+                }
+                Frame::Wait { .. } => 0,
             }
-            other => header + size_of(other),
-        }
     }
 }
 
@@ -413,11 +433,35 @@ mod tests {
                         m.targets.set(bits as usize % 70);
                         m.add_failed(bits as RobotId, v, round);
                         m.add_body(v, round / 2);
+                        m.free_body(v / 2, round);
+                        m.alive.push((bits as RobotId * 300, round >> (bits % 32)));
                     }
                 }
             }
             let f = Frame::Map { round, from: 3, at: vertices as u32 - 1, sent, halted: true, stop: false, map: m };
             prop_assert_eq!(f.wire_len(), encode(&f).len());
+        }
+
+        /// Every other kind, with values of every varint length.
+        #[test]
+        fn a_frames_length_is_its_encodings_whatever_its_values(
+            round in any::<u32>(),
+            from in any::<u16>(),
+            at in any::<u32>(),
+            ids in prop::collection::vec(any::<u16>(), 0..200),
+            targets in prop::collection::vec(any::<u32>(), 0..200),
+            flag in any::<bool>(),
+        ) {
+            let split = ids.len() / 3;
+            for f in [
+                Frame::Choice { round, from, at, next: at / 3, accounted: ids.clone() },
+                Frame::Ack { round, from, acked: ids[..split].to_vec(), refused: ids[split..].to_vec() },
+                Frame::Commit { round, from, moving: flag },
+                Frame::Flood { round, from, targets: targets.clone(), stop: flag },
+                Frame::Wait { round, from },
+            ] {
+                prop_assert_eq!(f.wire_len(), encode(&f).len(), "{:?}", f);
+            }
         }
 
         #[test]

@@ -100,7 +100,11 @@ fn the_last_target_ends_the_search_in_situation_one() {
             let slack = r.search_time_s - last;
             // A grid robot senses at the slot's start and stops at its exchange's end.
             let wait = if policy.on_grid() { world.params.t_exchange } else { 0.0 };
-            assert!((slack - wait).abs() < 1e-6, "{policy} seed={seed}: last target at {last}, search {}", r.search_time_s);
+            assert!(
+                (slack - wait).abs() < 1e-6,
+                "{policy} seed={seed}: last target at {last}, search {}",
+                r.search_time_s
+            );
         }
     }
 }

@@ -718,6 +718,7 @@ mod tests {
             collisions: 0,
             targets_found: 1,
             complete: true,
+            ..Default::default()
         };
         times.iter().map(run).collect()
     }

@@ -509,8 +509,9 @@ pub fn fig7(x: &Fig7Inputs) -> Report {
 /// The files a Fig. 7 sweep writes beside its report.
 fn files(maps: bool) -> Vec<(String, String)> {
     let mut f = vec![
-        ("results.csv", "the table above (map = all), and with several maps each map's cells"),
-        ("runs.csv", "every run: seed, time, rounds, collisions, targets, map"),
+        ("results.csv", "the table above (map = all), and with several maps each map's cells, with the runs' metrics"),
+        ("runs.csv", "every run: seed, time, rounds, collisions, targets, map, and its metrics"),
+        ("coverage.csv", "each cell's coverage against time (the figure's curves)"),
     ];
     if maps {
         f.push(("maps.csv", "every map: its scenario name (to rerun it alone), draws, time to make, obstacles"));
