@@ -647,7 +647,20 @@ fn experiment_writes_each_runs_metrics() {
     assert_ok(&gridswarm(&["experiment", "--runs", "4", "--robots", "1,4", "--seed", "2", "--out", path(&out)]));
     let table = |name: &str| -> (Vec<String>, Vec<Vec<String>>) {
         let text = fs::read_to_string(out.join(name)).unwrap();
-        let mut lines = text.lines().map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>());
+        // Split at commas outside quotes (a label may hold one).
+        let fields = |l: &str| {
+            let mut out = vec![String::new()];
+            let mut quoted = false;
+            for ch in l.chars() {
+                match ch {
+                    '"' => quoted = !quoted,
+                    ',' if !quoted => out.push(String::new()),
+                    c => out.last_mut().unwrap().push(c),
+                }
+            }
+            out
+        };
+        let mut lines = text.lines().map(fields);
         (lines.next().unwrap(), lines.collect())
     };
     let col = |h: &[String], k: &str| h.iter().position(|c| c == k).unwrap_or_else(|| panic!("no column {k} in {h:?}"));
