@@ -689,6 +689,7 @@ mod tests {
             mean_collisions: Some(0.5),
             median_search_time_s: Some(99.0),
             mean_targets_found: 9.0,
+            metrics: Default::default(),
         };
         let t = cells_table(&[c], &BTreeMap::new());
         assert_eq!(t.rows[0][..5], ["ru", "RU", "4", "4/5", "100.0"].map(String::from));

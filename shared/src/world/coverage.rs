@@ -9,8 +9,8 @@
 //! words. What a disc covers is worked out once per world and kept
 //! ([`Footprints`], shared by threads): for each vertex, the first time a
 //! run stands on it; for a point off the grid (LFP), by the class of its
-//! place within a tile and an eighth of a cell, as the cells surely
-//! within `r_st` wherever in that eighth it lies, and the few cells at the
+//! place within a tile and a quarter of a cell, as the cells surely
+//! within `r_st` wherever in that quarter it lies, and the few cells at the
 //! rim that depend on where, tested one by one. The curve is kept as the
 //! times the fraction first reached each hundredth ([`LEVELS`]), not a
 //! value per round.
