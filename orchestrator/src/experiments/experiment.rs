@@ -836,7 +836,9 @@ mod tests {
         assert!(lines.next().unwrap().starts_with(
             "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,mean_rounds,mean_collisions"
         ));
-        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,all");
-        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,0");
+        // No completed run: every statistic, the metrics' too, left empty.
+        let empty = ",".repeat(RESULTS_HEADER.split(',').count() - 13);
+        assert_eq!(lines.next().unwrap(), format!("sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,all{empty}"));
+        assert_eq!(lines.next().unwrap(), format!("sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,0{empty}"));
     }
 }
