@@ -26,8 +26,10 @@ pub use cli::command::main_with;
 pub use cli::{check, faults, robots, simulate};
 pub use error::{Error, Result};
 pub use experiments::{
-    claims, experiment, failures, grids, layouts, maps, radio, readings, refs, scale, seeds, sensitivity, set_sweep,
+    claims, curves, experiment, failures, grids, layouts, maps, radio, readings, refs, scale, seeds, sensitivity, set_sweep,
     settings, stats, sweep, tally,
 };
 pub use supervise::{launch, run};
-pub use write::{figures, heatmap, live, mcap, output, panels, plot, replay, report, routes, rundir, spread, staging};
+pub use write::{
+    figures, heatmap, live, mcap, metrics, output, panels, plot, replay, report, routes, rundir, spread, staging,
+};

@@ -208,14 +208,15 @@ fn small_experiment_writes_tables_figure_and_claims() {
     assert!(text.contains("x_oracle ") && text.contains("x_bound"), "{text}");
     // 5 runs a cell, the oracle's first 5: the same runs, not an estimate.
     assert_eq!(summary["references"]["oracle_estimate"], false, "{summary}");
-    // Every cell has its lower bound, below its mean (the last columns:
-    // a label may hold commas).
-    assert!(csv.starts_with(RESULTS_HEAD) && csv.lines().next().unwrap().ends_with(",oracle_runs,lower_bound_s"));
+    // Every cell has its lower bound, below its mean.
+    assert!(csv.starts_with(RESULTS_HEAD));
+    let header = csv_fields(csv.lines().next().unwrap());
+    let col = |k: &str| header.iter().position(|h| h == k).unwrap();
     for r in &rows {
-        let f: Vec<&str> = r.split(',').collect();
-        let (mean, bound): (f64, f64) = (f[4].parse().unwrap(), f[f.len() - 1].parse().unwrap());
+        let f = csv_fields(r);
+        let (mean, bound): (f64, f64) = (f[4].parse().unwrap(), f[col("lower_bound_s")].parse().unwrap());
         assert!(bound > 0.0 && bound < mean, "{r}");
-        assert_eq!(f[f.len() - 2], "5", "{r}");
+        assert_eq!(f[col("oracle_runs")], "5", "{r}");
     }
     let readings = summary["sensitivity"].as_array().unwrap();
     // RU's other collision charge, LFP's other turning laws (uniform, and
@@ -665,8 +666,90 @@ fn an_oracle_reference_on_fewer_runs_is_marked_an_estimate() {
     assert_eq!(summary["references"]["oracle_estimate"], true, "{summary}");
     assert_eq!(summary["references"]["oracle_runs"], 10, "{summary}");
     let csv = fs::read_to_string(out.join("results.csv")).unwrap();
-    assert!(csv.lines().nth(1).unwrap().contains(",all,"), "{csv}");
-    assert!(csv.lines().nth(1).unwrap().split(',').rev().nth(1) == Some("10"), "{csv}");
+    let (header, row) = (csv_fields(csv.lines().next().unwrap()), csv_fields(csv.lines().nth(1).unwrap()));
+    let get = |k: &str| row[header.iter().position(|h| h == k).unwrap()].clone();
+    assert_eq!((get("map"), get("oracle_runs")), ("all".into(), "10".into()), "{csv}");
     let html = fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("× oracle (estimate)"), "results table header");
+}
+
+/// Issue 22, item 4: every run's metrics in runs.csv, every cell's with
+/// their intervals in results.csv, the curves in coverage.csv, and the
+/// figures in the report.
+#[test]
+fn experiment_writes_each_runs_metrics() {
+    let d = scratch("experiment-metrics");
+    let out = d.join("out");
+    assert_ok(&gridswarm(&["experiment", "--runs", "4", "--robots", "1,4", "--seed", "2", "--out", path(&out)]));
+    let table = |name: &str| -> (Vec<String>, Vec<Vec<String>>) {
+        let text = fs::read_to_string(out.join(name)).unwrap();
+        let mut lines = text.lines().map(csv_fields);
+        (lines.next().unwrap(), lines.collect())
+    };
+    let col = |h: &[String], k: &str| h.iter().position(|c| c == k).unwrap_or_else(|| panic!("no column {k} in {h:?}"));
+
+    let (h, rows) = table("runs.csv");
+    assert_eq!(rows.len(), 4 * 2 * 4);
+    for row in &rows {
+        let get = |k: &str| row[col(&h, k)].as_str();
+        let coverage: f64 = get("coverage").parse().unwrap();
+        assert!(coverage > 0.0 && coverage <= 1.0, "{row:?}");
+        let times: Vec<f64> = get("target_times_s").split(';').map(|t| t.parse().unwrap()).collect();
+        assert_eq!(times.len().to_string(), get("targets_found"), "{row:?}");
+        assert!(times.windows(2).all(|w| w[0] <= w[1]) && times.last() <= Some(&get("search_time_s").parse().unwrap()));
+        assert!(get("distance_m").parse::<f64>().unwrap() > 0.0 && get("rotations").parse::<f64>().unwrap() >= 1.0);
+        // LFP has no radio; the grid policies send a map a slot at least.
+        let radio = get("algorithm") != "lfp";
+        assert_eq!(!get("frames").is_empty(), radio, "{row:?}");
+        if radio {
+            assert!(get("frames").parse::<f64>().unwrap() >= get("rounds").parse::<f64>().unwrap() / 2.0);
+            assert!(get("bytes").parse::<f64>().unwrap() > get("frames").parse::<f64>().unwrap());
+        }
+    }
+
+    let (h, rows) = table("results.csv");
+    for k in ["ci95_collisions", "mean_coverage", "ci95_coverage", "mean_half_coverage_s", "mean_distance_m"] {
+        col(&h, k);
+    }
+    for row in &rows {
+        let mean: f64 = row[col(&h, "mean_coverage")].parse().unwrap();
+        assert!(mean > 0.0 && mean <= 1.0 && !row[col(&h, "ci95_distance_m")].is_empty(), "{row:?}");
+        let targets = row[col(&h, "mean_target_times_s")].split(';').count();
+        assert_eq!(targets, 9, "every completed run of `paper` finds its 9 targets: {row:?}");
+    }
+
+    let (h, rows) = table("coverage.csv");
+    assert_eq!(rows.len(), 4 * 2 * gridswarm_orchestrator::curves::POINTS);
+    let mean = col(&h, "mean_coverage");
+    for cell in rows.chunks(gridswarm_orchestrator::curves::POINTS) {
+        let ys: Vec<f64> = cell.iter().map(|r| r[mean].parse().unwrap()).collect();
+        assert!(ys.windows(2).all(|w| w[0] <= w[1] + 1e-12) && ys[0] > 0.0, "{ys:?}");
+    }
+
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    for words in [
+        "Metrics of the runs",
+        "coverage against time",
+        "time to the k-th target",
+        "distance per robot",
+        "bytes sent per robot",
+        "coverage.csv",
+    ] {
+        assert!(html.contains(words), "{words} missing from the report");
+    }
+    assert!(html.matches("<svg").count() >= 4, "fig7 and the three metrics figures");
+}
+
+/// A CSV line's fields, split at commas outside quotes (a label may hold one).
+fn csv_fields(l: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    for ch in l.chars() {
+        match ch {
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(String::new()),
+            c => out.last_mut().unwrap().push(c),
+        }
+    }
+    out
 }

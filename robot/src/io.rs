@@ -140,6 +140,10 @@ pub trait Framed {
     /// as the human controller's receiver reads it: the world never
     /// looks (the controller's receiver does, `gridswarm::sim::CONTROLLER`).
     fn carries_stop(&self) -> bool;
+
+    /// Its length on the wire in bytes, header included: what a robot
+    /// process sends for it. Counted for the experimenter only.
+    fn wire_len(&self) -> usize;
 }
 
 /// A robot's receive filter, its own setting (as a radio's address filter,

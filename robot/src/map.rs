@@ -163,6 +163,31 @@ impl<'de> Deserialize<'de> for Map {
 }
 
 impl Map {
+    /// The bytes postcard writes for this map (the fields of [`Flat`]),
+    /// without writing them: the bitsets' words one varint each, the edge
+    /// masks a byte a vertex, the lists as they are. Summed by hand rather
+    /// than through serde: every map a robot sends is counted.
+    pub fn wire_len(&self) -> usize {
+        use crate::protocol::varint_len as v;
+        let vertices = self.cells.vertices();
+        let n = vertices.div_ceil(64);
+        let pairs =
+            |l: &[(u32, u32)]| v(l.len() as u64) + l.iter().map(|&(a, b)| v(a.into()) + v(b.into())).sum::<usize>();
+        let alive =
+            v(self.alive.len() as u64) + self.alive.iter().map(|&(a, b)| v(a.into()) + v(b.into())).sum::<usize>();
+        let failed = v(self.failed.len() as u64)
+            + self.failed.iter().map(|f| v(f.robot.into()) + v(f.at.into()) + v(f.round.into()) + 1).sum::<usize>();
+        2 * v(n as u64)
+            + self.cells.words_wire_len()
+            + v(vertices as u64)
+            + vertices
+            + self.targets.wire_len()
+            + failed
+            + alive
+            + pairs(&self.bodies)
+            + pairs(&self.freed)
+    }
+
     pub fn new(vertices: usize) -> Self {
         Map {
             cells: Tiles::new(vertices),

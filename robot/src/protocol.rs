@@ -141,6 +141,10 @@ impl Framed for Rc<Frame> {
     fn carries_stop(&self) -> bool {
         Frame::carries_stop(self)
     }
+
+    fn wire_len(&self) -> usize {
+        Frame::wire_len(self)
+    }
 }
 
 impl Framed for Rc<[u8]> {
@@ -158,6 +162,10 @@ impl Framed for Rc<[u8]> {
                 .is_ok_and(|f| f.carries_stop()),
             _ => false,
         }
+    }
+
+    fn wire_len(&self) -> usize {
+        self.len()
     }
 }
 
@@ -191,6 +199,51 @@ pub enum DecodeError {
     Format(String),
     #[error("frame out of range: {0}")]
     Range(String),
+}
+
+/// The bytes postcard takes for the unsigned integer `x` (7 bits a byte).
+#[inline]
+pub(crate) fn varint_len(x: u64) -> usize {
+    /// By leading zeros.
+    const LEN: [u8; 65] = {
+        let mut t = [1u8; 65];
+        let mut z = 0;
+        while z < 57 {
+            t[z] = (64 - z).div_ceil(7) as u8;
+            z += 1;
+        }
+        t
+    };
+    LEN[x.leading_zeros() as usize] as usize
+}
+
+impl Frame {
+    /// `encode(self).len()`, without encoding: summed by hand from the
+    /// fields as postcard writes them (a `u8` and a `bool` a byte, other
+    /// integers and lengths a varint), as every frame a robot sends is
+    /// counted and encoding its map would cost more than the slot's work.
+    pub fn wire_len(&self) -> usize {
+        let v = |x: u64| varint_len(x);
+        let ids = |l: &[RobotId]| v(l.len() as u64) + l.iter().map(|&r| v(r.into())).sum::<usize>();
+        let (round, from) = (v(self.round().into()), v(self.from().into()));
+        // Only acks and floods tag their header with more than a bit.
+        let tag = match self {
+            Frame::Ack { .. } | Frame::Flood { .. } => v(self.header().tag),
+            _ => 1,
+        };
+        // The header (kind, round, tag), then the variant's index (below 128: a byte).
+        let head = 1 + round + tag + 1;
+        head + round
+            + from
+            + match self {
+                Frame::Map { at, sent, map, .. } => v((*at).into()) + v(*sent) + 2 + map.wire_len(),
+                Frame::Choice { at, next, accounted, .. } => v((*at).into()) + v((*next).into()) + ids(accounted),
+                Frame::Ack { acked, refused, .. } => ids(acked) + ids(refused),
+                Frame::Commit { .. } => 1,
+                Frame::Flood { targets, .. } => crate::spot::wire_len(targets) + 1,
+                Frame::Wait { .. } => 0,
+            }
+    }
 }
 
 /// The frame's header ([`Frame::header`]), then the frame.
@@ -293,6 +346,15 @@ mod tests {
     }
 
     #[test]
+    fn a_frames_length_is_its_encodings() {
+        for f in frames() {
+            assert_eq!(f.wire_len(), encode(&f).len(), "{f:?}");
+            let bytes: Rc<[u8]> = encode(&f).into();
+            assert_eq!(Framed::wire_len(&bytes), Framed::wire_len(&Rc::new(f)));
+        }
+    }
+
+    #[test]
     fn a_header_reads_the_same_from_the_frame_and_from_its_bytes() {
         let kinds: Vec<u8> = frames().iter().map(|f| f.header().kind).collect();
         assert_eq!(kinds, [KIND_MAP, KIND_CHOICE, KIND_ACK, KIND_COMMIT, KIND_FLOOD, KIND_WAIT]);
@@ -363,6 +425,56 @@ mod tests {
     }
 
     proptest! {
+        /// Maps of every size and content: long varints, empty tiles, lists.
+        #[test]
+        fn a_maps_length_is_its_encodings(
+            vertices in 1usize..1500,
+            marks in prop::collection::vec((any::<u32>(), any::<u8>(), 0u8..4), 0..300),
+            round in any::<u32>(),
+            sent in any::<u64>(),
+        ) {
+            let mut m = Map::new(vertices);
+            for (v, bits, what) in marks {
+                let v = v % vertices as u32;
+                match what {
+                    0 => m.set_visited(v, true),
+                    1 => m.set_known(v, true),
+                    2 => m.or_open(v, bits | 1),
+                    _ => {
+                        m.targets.insert(Spot { x: i32::from(bits) * 977 - 100_000, y: (v as i32).wrapping_mul(-31) });
+                        m.add_failed(bits as RobotId, v, round);
+                        m.add_body(v, round / 2);
+                        m.free_body(v / 2, round);
+                        m.alive.push((bits as RobotId * 300, round >> (bits % 32)));
+                    }
+                }
+            }
+            let f = Frame::Map { round, from: 3, at: vertices as u32 - 1, sent, halted: true, stop: false, map: m };
+            prop_assert_eq!(f.wire_len(), encode(&f).len());
+        }
+
+        /// Every other kind, with values of every varint length.
+        #[test]
+        fn a_frames_length_is_its_encodings_whatever_its_values(
+            round in any::<u32>(),
+            from in any::<u16>(),
+            at in any::<u32>(),
+            ids in prop::collection::vec(any::<u16>(), 0..200),
+            targets in prop::collection::vec((any::<i32>(), any::<i32>()), 0..200),
+            flag in any::<bool>(),
+        ) {
+            let split = ids.len() / 3;
+            for f in [
+                Frame::Choice { round, from, at, next: at / 3, accounted: ids.clone() },
+                Frame::Ack { round, from, acked: ids[..split].to_vec(), refused: ids[split..].to_vec() },
+                Frame::Commit { round, from, moving: flag },
+                Frame::Flood { round, from, targets: targets.iter().map(|&(x, y)| Spot { x, y }).collect(), stop: flag },
+                Frame::Wait { round, from },
+            ] {
+                prop_assert_eq!(f.wire_len(), encode(&f).len(), "{:?}", f);
+            }
+        }
+
         #[test]
         fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
             if let Ok(f) = decode(&bytes, &LIMITS) {

@@ -28,6 +28,15 @@ impl Spot {
     }
 }
 
+/// The bytes postcard writes for `spots`: its length, then each
+/// coordinate as a zigzag varint. Summed by hand, as every frame a robot
+/// sends is counted.
+pub fn wire_len(spots: &[Spot]) -> usize {
+    let v = crate::protocol::varint_len;
+    let zigzag = |c: i32| v(((c << 1) ^ (c >> 31)) as u32 as u64);
+    v(spots.len() as u64) + spots.iter().map(|s| zigzag(s.x) + zigzag(s.y)).sum::<usize>()
+}
+
 /// Targets known found, as a sorted set of spots. It grows as targets are
 /// learnt: in situation 2 a robot does not know how many there are. On the
 /// wire, a sequence of spots.
@@ -38,6 +47,11 @@ pub struct Spots(Vec<Spot>);
 impl Spots {
     pub fn count(&self) -> usize {
         self.0.len()
+    }
+
+    /// The bytes postcard writes for this set ([`wire_len`]).
+    pub fn wire_len(&self) -> usize {
+        wire_len(&self.0)
     }
 
     pub fn contains(&self, s: Spot) -> bool {

@@ -99,11 +99,12 @@ use serde::{Deserialize, Serialize};
 use crate::geometry::{swept_min_distance, Point, Vector};
 use crate::grid::{VertexId, NONE};
 use crate::lattice::Coord;
-use crate::outcome::{Pose, RunConfig, RunResult};
+use crate::outcome::{Pose, RunConfig, RunMetrics, RunResult};
 use crate::params::Situation;
 use crate::policy::Policy;
 use crate::rng;
-use crate::world::{Raster, World};
+use crate::world::coverage::{Coverage, Footprints};
+use crate::world::World;
 
 use levy::Mantegna;
 use sensing::Sensing;
@@ -182,7 +183,7 @@ pub struct LfpWorld<'w> {
     world: &'w World,
     sensing: Sensing,
     vertices: VertexTable,
-    raster: OnceLock<Raster>,
+    raster: OnceLock<Footprints>,
 }
 
 impl<'w> LfpWorld<'w> {
@@ -194,8 +195,11 @@ impl<'w> LfpWorld<'w> {
         self.world
     }
 
-    fn raster(&self) -> &Raster {
-        self.raster.get_or_init(|| self.world.raster(self.world.params.a / 10.0))
+    /// LFP's raster for coverage (its cells of side `a / 10`, which may
+    /// differ from the grid engines' `0.1 a` in the last bit).
+    fn raster(&self) -> &Footprints {
+        let w = self.world;
+        self.raster.get_or_init(|| Footprints::new(w, w.raster(w.params.a / 10.0), w.params.r_st))
     }
 }
 
@@ -400,13 +404,24 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
     if cfg.record_trajectories {
         trajectories = pos.iter().map(|&p| vec![Pose { vertex: None, position: p }]).collect();
     }
-    let mut visited: Vec<Point> = if cfg.measure_coverage { pos.clone() } else { Vec::new() };
+    let mut coverage = cfg.measure_coverage.then(|| Coverage::on(world, lw.raster()));
+    let mut targets_s = Vec::new();
+    let mut distance = vec![0.0; n];
+    let mut rotations = vec![0u32; n];
+    let mut turned = vec![false; n];
 
     for &p in &pos {
         sense_targets(&mut missing, p);
         if situation2 {
             cover(&mut pending, &mut uncovered, p);
         }
+        if let Some(c) = coverage.as_mut() {
+            c.pass(p);
+        }
+    }
+    targets_s.resize(world.targets.len() - missing.len(), 0.0);
+    if let Some(c) = coverage.as_mut() {
+        c.at(0.0);
     }
     let done = |missing: &Vec<u32>, uncovered: usize| if situation2 { uncovered == 0 } else { missing.is_empty() };
 
@@ -420,6 +435,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
     while !complete && n > 0 && rounds < cfg.max_rounds {
         let mut rotated = false;
         for (i, r) in robots.iter_mut().enumerate() {
+            turned[i] = r.rem <= 0.0;
             if r.rem <= 0.0 {
                 new_flight(r, lw.sensing.sense(pos[i], prm.r_so, lfp.k_obstacle, 0.0).0, &levy, lfp, a);
                 rotated = true;
@@ -446,6 +462,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
                 let dir = if len > 1e-12 { bent / len } else { r.heading };
                 if dir.dot(&r.facing) < cos_steer {
                     rotated = true;
+                    turned[i] = true;
                 }
                 r.facing = dir;
                 // Pushed back against its flight: the flight gives way to a new
@@ -456,6 +473,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
                 // No feature nearer than r_safe + step can be reached this micro-step.
                 let t = if nearest >= clear_beyond { 1.0 } else { lw.sensing.clear_fraction(p, dir * r.step) };
                 next[i] = p + dir * (r.step * t);
+                distance[i] += r.step * t;
                 if t < 1.0 {
                     r.rem = 0.0;
                     r.moving = false;
@@ -481,6 +499,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
             }
         }
 
+        let missed = missing.len();
         for (k, &p) in pos.iter().enumerate() {
             sense_targets(&mut missing, p);
             if situation2 {
@@ -489,9 +508,10 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
             if cfg.record_trajectories {
                 trajectories[k].push(Pose { vertex: None, position: p });
             }
-        }
-        if cfg.measure_coverage {
-            visited.extend_from_slice(&pos);
+            if let Some(c) = coverage.as_mut() {
+                c.pass(p);
+            }
+            rotations[k] += u32::from(turned[k]);
         }
 
         rounds += 1;
@@ -502,10 +522,23 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
             + prm.collision_penalty(round_collisions);
         round_end_times.push(time);
         per_round_collisions.push(round_collisions);
+        targets_s.resize(targets_s.len() + missed - missing.len(), time);
+        if let Some(c) = coverage.as_mut() {
+            c.at(time);
+        }
         complete = done(&missing, uncovered);
     }
 
-    let coverage = cfg.measure_coverage.then(|| lw.raster().detected_fraction(visited.iter().copied(), prm.r_st));
+    // The cells `Raster::detected_fraction` counts, marked as the run went.
+    let fraction = coverage.as_ref().map(|c| c.fraction());
+    let metrics = RunMetrics {
+        coverage_s: coverage.map(|c| c.curve()).unwrap_or_default(),
+        targets_s,
+        distance_m: distance,
+        rotations,
+        frames: Vec::new(),
+        bytes: Vec::new(),
+    };
     RunResult {
         algorithm: Policy::Lfp,
         robots: n,
@@ -516,7 +549,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
         targets_found: world.targets.len() - missing.len(),
         targets_total: world.targets.len(),
         collisions,
-        coverage,
+        coverage: fraction,
         complete,
         robot_rounds: rounds as u64 * n as u64,
         trajectories,
@@ -526,6 +559,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
             ended_by: if complete { "stop" } else { "max_rounds" }.to_string(),
             ..Default::default()
         },
+        metrics,
     }
 }
 

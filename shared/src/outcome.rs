@@ -117,6 +117,36 @@ pub struct RunResult {
     /// The protocol's and the radio's counts (grid policies).
     #[serde(default)]
     pub protocol: ProtocolStats,
+    /// Coverage against time, times to each target, and each robot's
+    /// distance, turns and radio traffic.
+    #[serde(default)]
+    pub metrics: RunMetrics,
+}
+
+/// What a run measured beyond its search time, for the sweeps' figures
+/// (issue 22, item 4): a few numbers per robot and per target and a
+/// hundred points of coverage, never a value per round. Every engine fills
+/// it alike for the same run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunMetrics {
+    /// `coverage_s[i]`: the simulated time at which the detected fraction
+    /// of `Ad` first reached `(i + 1) / LEVELS`
+    /// ([`crate::world::coverage::LEVELS`]), for the levels reached; empty
+    /// unless coverage was measured. Places count from the end of the
+    /// round that brought a robot there (time 0 for the starts).
+    pub coverage_s: Vec<f64>,
+    /// The simulated time at which the `k`-th target (from 0) was first
+    /// found: when a robot's laser first had it within `r_st`.
+    pub targets_s: Vec<f64>,
+    /// Per robot: the distance it drove (m) and the times it turned to a
+    /// new direction.
+    pub distance_m: Vec<f64>,
+    pub rotations: Vec<u32>,
+    /// Per robot: the frames it handed to the radio, retransmitted copies
+    /// not counted, and their bytes as encoded on the wire. Empty for
+    /// policies without a radio (LFP, the oracle).
+    pub frames: Vec<u64>,
+    pub bytes: Vec<u64>,
 }
 
 #[cfg(test)]

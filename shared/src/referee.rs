@@ -61,6 +61,14 @@ pub struct Referee<'w> {
     /// Draws who gets through a collision.
     seed: u64,
     round: u64,
+    /// Targets found so far, and each robot's legs driven (a move, a
+    /// return when backing off, a step aside) and turns made, for the
+    /// run's metrics.
+    found_count: usize,
+    legs: Vec<u32>,
+    turns: Vec<u32>,
+    /// Where each robot was headed before backing off, kept to avoid allocating.
+    planned: Vec<VertexId>,
 }
 
 impl<'w> Referee<'w> {
@@ -80,6 +88,10 @@ impl<'w> Referee<'w> {
             cells: Cells::new(Self::reach(world)),
             seed: 0,
             round: 0,
+            found_count: 0,
+            legs: vec![0; starts.len()],
+            turns: vec![0; starts.len()],
+            planned: Vec::new(),
         };
         for (k, &v) in starts.iter().enumerate() {
             r.occupant[v as usize] = k as u16;
@@ -112,6 +124,23 @@ impl<'w> Referee<'w> {
         &self.found
     }
 
+    /// How many targets were found so far.
+    pub fn found_count(&self) -> usize {
+        self.found_count
+    }
+
+    /// Each robot's legs driven so far, one edge each: its moves, a return
+    /// to where it came from when it backed off, a step aside off a shared
+    /// vertex.
+    pub fn legs(&self) -> &[u32] {
+        &self.legs
+    }
+
+    /// Each robot's turns so far: moves in another direction than its last.
+    pub fn turns(&self) -> &[u32] {
+        &self.turns
+    }
+
     /// Sonar: the open edge slots and the slots holding another robot.
     pub fn sonar(&self, robot: usize) -> (u8, u8) {
         let v = self.pos[robot];
@@ -129,7 +158,10 @@ impl<'w> Referee<'w> {
     pub fn laser(&mut self, robot: usize) -> &'w [u32] {
         let ts = self.world.targets_near(self.pos[robot]);
         for &t in ts {
-            self.found.set(t as usize);
+            if !self.found.get(t as usize) {
+                self.found.set(t as usize);
+                self.found_count += 1;
+            }
         }
         ts
     }
@@ -165,13 +197,22 @@ impl<'w> Referee<'w> {
             let (a, b) = (grid.coord(from), grid.coord(to));
             let dir = (b.i - a.i, b.j - a.j);
             report.translated = true;
+            self.legs[k] += 1;
             if self.heading[k] != Some(dir) {
                 report.rotated = true;
+                self.turns[k] += 1;
             }
             self.heading[k] = Some(dir);
         }
         if self.world.params.ru_collisions == RuCollisions::BackOff && report.collisions > 0 {
+            let mut planned = std::mem::take(&mut self.planned);
+            planned.clear();
+            planned.extend_from_slice(&target);
             report.collisions += self.back_off(&mut target);
+            for (k, (&p, &t)) in planned.iter().zip(target.iter()).enumerate() {
+                self.legs[k] += u32::from(p != t);
+            }
+            self.planned = planned;
         }
         self.round += 1;
         for &v in &self.pos {

@@ -5,8 +5,10 @@
 //! `World`; a robot learns of it through sensing alone.
 
 use std::collections::VecDeque;
+use std::sync::{Arc, OnceLock};
 
 pub(crate) mod buckets;
+pub mod coverage;
 mod rows;
 
 use crate::bitset::Bitset;
@@ -28,6 +30,9 @@ pub struct World {
     open: Vec<u8>,
     /// Targets within `r_st` of each vertex.
     targets_near: Vec<Vec<u32>>,
+    /// The engines' raster for coverage as it goes, made on first use and
+    /// shared by every run on this world (and its clones).
+    footprints: OnceLock<Arc<coverage::Footprints>>,
 }
 
 /// What can be near a point of the grid, for building a world: obstacles
@@ -151,7 +156,7 @@ impl World {
                 near.targets(p).filter(|&t| (targets[t as usize] - p).norm() <= params.r_st).collect()
             })
             .collect();
-        World { grid, area, obstacles, targets, params, accessible, open, targets_near }
+        World { grid, area, obstacles, targets, params, accessible, open, targets_near, footprints: OnceLock::new() }
     }
 
     pub fn is_accessible(&self, v: VertexId) -> bool {
@@ -225,6 +230,17 @@ impl World {
     pub fn detected_fraction_of(&self, visited: &Bitset) -> f64 {
         let centres = visited.iter().map(|v| self.grid.position(v as VertexId));
         self.raster(crate::engine::RASTER_CELL * self.params.a).detected_fraction(centres, self.params.r_st)
+    }
+
+    /// The engines' raster and the vertices' footprints on it, for
+    /// [`coverage::Coverage`]: made by the first run that asks, from the
+    /// parameters then (a world's parameters are not changed once runs
+    /// have started on it).
+    pub fn footprints(&self) -> &coverage::Footprints {
+        self.footprints.get_or_init(|| {
+            let raster = self.raster(crate::engine::RASTER_CELL * self.params.a);
+            Arc::new(coverage::Footprints::new(self, raster, self.params.r_st))
+        })
     }
 
     /// A raster of `Ad` with cells of side `h`, for the detected fraction:

@@ -82,9 +82,10 @@ enum Command {
     /// the paper's open readings; `failures`, `radio` and `scale` for the
     /// protocol under crashes, radio loss and growing robot counts.
     ///
-    /// Writes results.csv, runs.csv, fig7.svg, claims.txt, summary.json and
-    /// report.html (grids.csv and grids.html with --grids) in --out, and
-    /// prints the table and claims.
+    /// Writes results.csv, runs.csv (each with the runs' metrics),
+    /// coverage.csv, fig7.svg, claims.txt, summary.json and report.html
+    /// (grids.csv and grids.html with --grids) in --out, and prints the
+    /// table and claims.
     #[command(args_conflicts_with_subcommands = true)]
     Experiment {
         #[command(subcommand)]

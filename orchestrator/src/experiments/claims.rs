@@ -630,6 +630,7 @@ mod tests {
             mean_collisions: Some(0.0),
             median_search_time_s: Some(mean),
             mean_targets_found: 9.0,
+            metrics: Default::default(),
         }
     }
 
@@ -718,6 +719,7 @@ mod tests {
             collisions: 0,
             targets_found: 1,
             complete: true,
+            ..Default::default()
         };
         times.iter().map(run).collect()
     }

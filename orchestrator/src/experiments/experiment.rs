@@ -24,6 +24,7 @@ use serde_json::json;
 
 use crate::claims::{self, ClaimResult};
 use crate::contract::{self, Runner};
+use crate::curves::{self, Curve};
 use crate::error::{Error, Result};
 use crate::layouts::Layouts;
 use crate::maps;
@@ -31,8 +32,8 @@ use crate::robots::compress;
 use crate::seeds::run_seed;
 use crate::sensitivity;
 use crate::staging::Staging;
-use crate::stats::{CellStats, RunRecord};
-use crate::{check, output, plot, provenance, report};
+use crate::stats::{CellMetrics, CellStats, Estimate, Measured, RunRecord};
+use crate::{check, metrics, output, plot, provenance, report};
 
 /// The algorithms of Fig. 7, in its legend's order.
 pub const DEFAULT_ALGORITHMS: &str = "lfp,ru,sequential,repulsive";
@@ -165,6 +166,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         let map_cells: &[Vec<CellStats>] = if several { &part.per_map } else { &[] };
         output::write_text(&out.join("results.csv"), &results_csv(cells, map_cells, refs))?;
         output::write_file(&out.join("runs.csv"), |w| part.plan().write_runs_csv(w, &part.records))?;
+        output::write_text(&out.join("coverage.csv"), &curves::csv(&part.curves))?;
         let map_rows = maps::rows(&maps);
         if several {
             output::write_text(&out.join("maps.csv"), &maps::csv(&map_rows))?;
@@ -193,7 +195,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             threads: rayon::current_num_threads(),
             runs_total: part.records.len(),
             refs,
-            extra: [report::sensitivity_section(&part.readings)]
+            extra: [Some(part.metrics_section(out)?), report::sensitivity_section(&part.readings)]
                 .into_iter()
                 .flatten()
                 .chain(if several { crate::spread::sections(&maps, &map_rows, &spreads) } else { Vec::new() })
@@ -212,7 +214,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
 pub(crate) fn ran_line(runs: usize, wall_time_s: f64, several: bool, out: &std::path::Path) -> String {
     format!(
         "{runs} runs in {wall_time_s:.2} s wall time on {} threads; \
-         wrote results.csv, runs.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
+         wrote results.csv, runs.csv, coverage.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
         rayon::current_num_threads(),
         if several { "maps.csv, " } else { "" },
         out.display()
@@ -247,6 +249,8 @@ pub(crate) struct Part {
     pub records: Vec<RunRecord>,
     pub per_map: Vec<Vec<CellStats>>,
     pub cells: Vec<CellStats>,
+    /// Each cell's coverage against time, over every map.
+    pub curves: Vec<Curve>,
     pub claims: Vec<ClaimResult>,
     /// The oracle's means and the lower bounds.
     pub refs: crate::refs::Refs,
@@ -279,6 +283,7 @@ impl Part {
             .collect();
         let pooled = plan.pooled_runs(&records);
         let cells: Vec<CellStats> = plan.cells().zip(&pooled).map(|((p, r), runs)| CellStats::of(p, r, runs)).collect();
+        let curves = curves::curves(&plan.cells().collect::<Vec<_>>(), &pooled);
         let robot_rounds =
             plan.jobs().iter().zip(&records).map(|(j, x)| x.rounds as u64 * opts.robots[j.2] as u64).sum();
         // Paired run by run: run k of every algorithm shares its seed and map.
@@ -314,6 +319,7 @@ impl Part {
             records,
             per_map,
             cells,
+            curves,
             claims,
             refs,
             readings,
@@ -382,6 +388,58 @@ impl Part {
     pub fn svg(&self, out: &std::path::Path, title: &str) -> Result<String> {
         plot::fig7_svg(&self.cells, &self.algorithms, title)
             .map_err(|message| Error::Plot { path: out.join("fig7.svg"), message })
+    }
+
+    /// The report's section of the runs' metrics: coverage against time,
+    /// the times to the targets, and what each robot spent.
+    pub fn metrics_section(&self, out: &std::path::Path) -> Result<report::Section> {
+        let plot = |svg: std::result::Result<String, String>, name: &str| {
+            svg.map_err(|message| Error::Plot { path: out.join(name), message })
+        };
+        let name = output::shown(&self.scenario.name);
+        let cov = plot(
+            metrics::coverage_svg(
+                &self.curves,
+                &self.algorithms,
+                &self.robots,
+                &format!("{name}: coverage against time"),
+            ),
+            "report.html (coverage)",
+        )?;
+        let targets = plot(
+            metrics::targets_svg(&self.cells, &self.algorithms, &format!("{name}: time to the k-th target")),
+            "report.html (targets)",
+        )?;
+        let effort = plot(
+            metrics::effort_svg(&self.cells, &self.algorithms, &format!("{name}: what the robots spent")),
+            "report.html (effort)",
+        )?;
+        use report::Block::Figure;
+        Ok(report::Section::new(
+            "Metrics of the runs",
+            vec![
+                Figure {
+                    svg: cov,
+                    caption: "Mean detected fraction of Ad of the completed runs against simulated time, with its \
+                              95% interval as a band; a run counts its final fraction after its end (coverage.csv)."
+                        .into(),
+                },
+                Figure {
+                    svg: targets,
+                    caption: "Mean time at which the k-th target was first found, with 95% intervals (completed runs \
+                              that found k targets)."
+                        .into(),
+                },
+                Figure {
+                    svg: effort,
+                    caption: "Per robot: metres driven (a back-off's return included), turns to a new direction, \
+                              frames handed to the radio and their bytes as encoded (grid policies: LFP has no \
+                              radio); per run: collisions; and the time the detected fraction first reached one \
+                              half. Means of the completed runs with 95% intervals (results.csv)."
+                        .into(),
+                },
+            ],
+        ))
     }
 
     /// summary.json without its provenance.
@@ -525,7 +583,8 @@ pub fn place(scenario: &Scenario, world: &World, robots: &[usize]) -> Result<Vec
     Ok(starts)
 }
 
-/// One run of a sweep, kept as numbers only (no poses, no raster pass).
+/// One run of a sweep, kept as numbers only (no poses), with its coverage
+/// measured as it goes when `coverage` (its other metrics always).
 pub fn record(
     runner: &Runner,
     starts: &[VertexId],
@@ -533,11 +592,12 @@ pub fn record(
     seed: u64,
     situation: Situation,
     max_rounds: u32,
+    coverage: bool,
 ) -> RunRecord {
     let mut cfg = RunConfig::new(policy, seed, situation);
     cfg.max_rounds = max_rounds;
     cfg.record_trajectories = false;
-    cfg.measure_coverage = false;
+    cfg.measure_coverage = coverage;
     let res = runner.run(starts, &cfg);
     RunRecord {
         seed,
@@ -546,6 +606,7 @@ pub fn record(
         collisions: res.collisions,
         targets_found: res.targets_found,
         complete: res.complete,
+        measured: Measured::of(&res),
     }
 }
 
@@ -587,7 +648,7 @@ impl Plan<'_> {
             .map(|(c, _)| {
                 records
                     .chunks(self.per_map())
-                    .flat_map(|m| m[c * cell_len..(c + 1) * cell_len].iter().copied())
+                    .flat_map(|m| m[c * cell_len..(c + 1) * cell_len].iter().cloned())
                     .collect()
             })
             .collect()
@@ -606,7 +667,7 @@ impl Plan<'_> {
                 // continues the run index, so no two runs share a seed.
                 let seed = run_seed(opts.seed, self.robots[r], (m * self.runs + k) as u64);
                 let starts = self.starts.of(m, r, k);
-                let rec = record(&runners[m], starts, self.algorithms[a], seed, situation, opts.max_rounds);
+                let rec = record(&runners[m], starts, self.algorithms[a], seed, situation, opts.max_rounds, true);
                 bar.inc(1);
                 rec
             })
@@ -617,11 +678,14 @@ impl Plan<'_> {
 
     /// `runs.csv`: every run, for analyses the summary does not foresee.
     fn write_runs_csv(&self, w: &mut impl Write, records: &[RunRecord]) -> std::io::Result<()> {
-        writeln!(w, "algorithm,robots,run,seed,search_time_s,rounds,collisions,targets_found,complete,map")?;
+        writeln!(
+            w,
+            "algorithm,robots,run,seed,search_time_s,rounds,collisions,targets_found,complete,map,{RUN_METRICS}"
+        )?;
         for ((m, a, r, k), rec) in self.jobs().into_iter().zip(records) {
             writeln!(
                 w,
-                "{},{},{k},{},{:.6},{},{},{},{},{m}",
+                "{},{},{k},{},{:.6},{},{},{},{},{m},{}",
                 self.algorithms[a].name(),
                 self.robots[r],
                 rec.seed,
@@ -629,7 +693,8 @@ impl Plan<'_> {
                 rec.rounds,
                 rec.collisions,
                 rec.targets_found,
-                rec.complete
+                rec.complete,
+                run_metrics(&rec.measured)
             )?;
         }
         Ok(())
@@ -655,7 +720,42 @@ pub fn incomplete_note(cells: &[CellStats], max_rounds: u32) -> String {
 
 pub const RESULTS_HEADER: &str = "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,\
                                   mean_rounds,mean_collisions,label,median_search_time_s,mean_targets_found,map,\
-                                  oracle_reference_s,oracle_runs,lower_bound_s";
+                                  oracle_reference_s,oracle_runs,lower_bound_s,\
+                                  ci95_collisions,mean_coverage,ci95_coverage,mean_half_coverage_s,ci95_half_coverage_s,\
+                                  mean_distance_m,ci95_distance_m,mean_rotations,ci95_rotations,mean_frames,ci95_frames,\
+                                  mean_bytes,ci95_bytes,mean_target_times_s,ci95_target_times_s";
+
+/// runs.csv's columns of a run's metrics, after its others: per robot,
+/// means over the team; the targets' times as one field, `;` between them.
+pub const RUN_METRICS: &str = "coverage,half_coverage_s,distance_m,rotations,frames,bytes,target_times_s";
+
+/// A run's metrics as runs.csv's cells, in [`RUN_METRICS`]' order.
+fn run_metrics(m: &Measured) -> String {
+    let n = output::csv_num;
+    format!(
+        "{},{},{:.6},{:.6},{},{},{}",
+        n(m.coverage),
+        n(m.half_coverage_s()),
+        m.distance_m,
+        m.rotations,
+        n(m.frames),
+        n(m.bytes),
+        m.targets_s.iter().map(|t| format!("{t:.6}")).collect::<Vec<_>>().join(";")
+    )
+}
+
+/// A cell's metrics as results.csv's cells after the references: each
+/// mean and its interval; the k-th targets' as `;`-separated lists.
+fn cell_metrics(c: &CellMetrics) -> String {
+    let n = output::csv_num;
+    let mut s = n(c.collisions.ci95);
+    for e in [c.coverage, c.half_coverage_s, c.distance_m, c.rotations, c.frames, c.bytes] {
+        let _ = write!(s, ",{},{}", n(e.mean), n(e.ci95));
+    }
+    let list = |f: &dyn Fn(&Estimate) -> Option<f64>| c.targets_s.iter().map(|e| n(f(e))).collect::<Vec<_>>().join(";");
+    let _ = write!(s, ",{},{}", list(&|e| e.mean), list(&|e| e.ci95));
+    s
+}
 
 /// `results.csv`: one row per cell over every map (`map` = `all`), then,
 /// with several maps, one per cell and map (`map` = its index, as in
@@ -675,7 +775,7 @@ pub fn results_csv(cells: &[CellStats], per_map: &[Vec<CellStats>], refs: &crate
         let oracle_runs = if pooled && oracle.is_some() { refs.oracle_runs.to_string() } else { String::new() };
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},\"{}\",{},{:.6},{map},{},{oracle_runs},{}",
+            "{},{},{},{},{},{},{},{},{},\"{}\",{},{:.6},{map},{},{oracle_runs},{},{}",
             c.algorithm.name(),
             c.robots,
             c.runs,
@@ -690,6 +790,7 @@ pub fn results_csv(cells: &[CellStats], per_map: &[Vec<CellStats>], refs: &crate
             c.mean_targets_found,
             output::csv_num(oracle),
             output::csv_num(refs.bound(c).filter(|_| pooled)),
+            cell_metrics(&c.metrics)
         );
     }
     s
@@ -741,8 +842,15 @@ mod tests {
 
     #[test]
     fn csv_header_and_empty_fields() {
-        let recs =
-            [RunRecord { seed: 1, search_time_s: 10.0, rounds: 2, collisions: 0, targets_found: 3, complete: false }];
+        let recs = [RunRecord {
+            seed: 1,
+            search_time_s: 10.0,
+            rounds: 2,
+            collisions: 0,
+            targets_found: 3,
+            complete: false,
+            ..Default::default()
+        }];
         let cells = vec![CellStats::of(Policy::Sequential, 4, &recs)];
         let refs = crate::refs::Refs::default();
         let csv = results_csv(&cells, std::slice::from_ref(&cells), &refs);
@@ -750,7 +858,9 @@ mod tests {
         assert!(lines.next().unwrap().starts_with(
             "algorithm,robots,runs,completed_runs,mean_search_time_s,std_search_time_s,ci95_s,mean_rounds,mean_collisions"
         ));
-        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,all,,,");
-        assert_eq!(lines.next().unwrap(), "sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,0,,,");
+        // No completed run: every statistic, the references' and metrics' too, left empty.
+        let empty = ",".repeat(RESULTS_HEADER.split(',').count() - 13);
+        assert_eq!(lines.next().unwrap(), format!("sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,all{empty}"));
+        assert_eq!(lines.next().unwrap(), format!("sequential,4,1,0,,,,,,\"(1)&(3)\",,3.000000,0{empty}"));
     }
 }

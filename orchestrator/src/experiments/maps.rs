@@ -167,6 +167,7 @@ mod tests {
                 collisions: 0,
                 targets_found: 9,
                 complete: true,
+                ..Default::default()
             })
             .into_iter()
             .collect();

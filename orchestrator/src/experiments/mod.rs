@@ -2,13 +2,14 @@
 //! sweep (`experiment`), `failures`, `radio`, `scale`, the lattice
 //! comparison (`grids`), the paper's claims, and the pieces they share:
 //! running jobs on either engine (`sweep`), where runs start (`layouts`), reading a run's figures
-//! (`tally`), statistics, seeds, the maps a sweep runs on (`maps`), and how
+//! (`tally`), statistics and coverage against time (`curves`), seeds, the maps a sweep runs on (`maps`), and how
 //! much a sweep depends on the paper's readings (`sensitivity`), the
 //! references cells are measured against (`refs`), and the
 //! claims re-evaluated over a grid of those readings (`readings`), and the
 //! sweep over a grid of `--set` scenario values (`settings`, `set_sweep`).
 
 pub mod claims;
+pub mod curves;
 pub mod experiment;
 pub mod failures;
 pub mod grids;

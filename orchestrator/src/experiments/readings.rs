@@ -275,7 +275,8 @@ fn execute(
         .par_iter()
         .map(|&(s, c, r, k)| {
             let seed = run_seed(opts.seeds[s], opts.robots[r], k as u64);
-            let rec = record(&runners[c], starts[s].of(0, r, k), curves[c].policy, seed, situation, opts.max_rounds);
+            let rec =
+                record(&runners[c], starts[s].of(0, r, k), curves[c].policy, seed, situation, opts.max_rounds, false);
             bar.inc(1);
             rec
         })

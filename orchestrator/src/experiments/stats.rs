@@ -1,12 +1,15 @@
 //! Per-cell statistics of a sweep: one cell is one (algorithm, robot count)
 //! with its Monte Carlo runs.
 
+use gridswarm::outcome::RunResult;
 use gridswarm::policy::Policy;
+use gridswarm::world::coverage::LEVELS;
 use serde::Serialize;
 
 /// What the sweep keeps of one run: enough for the statistics, small enough
-/// to hold every run of a large sweep in memory.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+/// to hold every run of a large sweep in memory (a kilobyte at most with
+/// its coverage curve).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct RunRecord {
     pub seed: u64,
     pub search_time_s: f64,
@@ -14,6 +17,58 @@ pub struct RunRecord {
     pub collisions: u32,
     pub targets_found: usize,
     pub complete: bool,
+    /// What the run measured beyond its time (issue 22, item 4).
+    pub measured: Measured,
+}
+
+/// A run's metrics as the sweep keeps them: per robot, means over the team.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Measured {
+    /// The detected fraction of `Ad` at the end, and the times it first
+    /// reached each hundredth ([`gridswarm::outcome::RunMetrics::coverage_s`]).
+    pub coverage: Option<f64>,
+    pub coverage_s: Vec<f64>,
+    /// When the k-th target was first found.
+    pub targets_s: Vec<f64>,
+    /// Per robot: metres driven, turns, frames sent and their bytes (the
+    /// last two `None` for policies without a radio).
+    pub distance_m: f64,
+    pub rotations: f64,
+    pub frames: Option<f64>,
+    pub bytes: Option<f64>,
+}
+
+impl Measured {
+    pub fn of(r: &RunResult) -> Self {
+        let m = &r.metrics;
+        let per_robot = |sum: f64| sum / r.robots.max(1) as f64;
+        let radio = |xs: &[u64]| (!xs.is_empty()).then(|| per_robot(xs.iter().sum::<u64>() as f64));
+        Measured {
+            coverage: r.coverage,
+            coverage_s: m.coverage_s.clone(),
+            targets_s: m.targets_s.clone(),
+            distance_m: per_robot(m.distance_m.iter().sum()),
+            rotations: per_robot(m.rotations.iter().map(|&t| f64::from(t)).sum()),
+            frames: radio(&m.frames),
+            bytes: radio(&m.bytes),
+        }
+    }
+
+    /// The time the detected fraction first reached one half.
+    pub fn half_coverage_s(&self) -> Option<f64> {
+        self.coverage_s.get(LEVELS / 2 - 1).copied()
+    }
+
+    /// The detected fraction at time `t` of a run that ended at `end`: the
+    /// levels reached by then, and the run's final fraction from its end on.
+    pub fn coverage_at(&self, t: f64, end: f64) -> Option<f64> {
+        let last = self.coverage?;
+        if t >= end {
+            return Some(last);
+        }
+        let reached = self.coverage_s.partition_point(|&s| s <= t);
+        Some((reached as f64 / LEVELS as f64).min(last))
+    }
 }
 
 /// Statistics of one (algorithm, robot count) cell. Times, rounds and
@@ -36,6 +91,61 @@ pub struct CellStats {
     pub median_search_time_s: Option<f64>,
     /// Mean over all runs, complete or not.
     pub mean_targets_found: f64,
+    /// Issue 22's metrics, over the completed runs.
+    pub metrics: CellMetrics,
+}
+
+/// A cell's means of the runs' metrics, each with the half-width of its
+/// 95% interval, over the completed runs (the time to half coverage over
+/// those that reached it, the k-th target's time over those that found k).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct CellMetrics {
+    pub collisions: Estimate,
+    pub coverage: Estimate,
+    pub half_coverage_s: Estimate,
+    pub distance_m: Estimate,
+    pub rotations: Estimate,
+    pub frames: Estimate,
+    pub bytes: Estimate,
+    /// Element k: the (k + 1)-th target.
+    pub targets_s: Vec<Estimate>,
+}
+
+/// A mean and the half-width of its normal 95% interval (`None` where
+/// there are too few values).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Estimate {
+    pub mean: Option<f64>,
+    pub ci95: Option<f64>,
+}
+
+impl Estimate {
+    pub fn of(xs: &[f64]) -> Self {
+        Estimate { mean: mean(xs), ci95: ci95(xs) }
+    }
+}
+
+/// Half-width of the normal 95% interval of the mean: 1.96 std / sqrt(n).
+pub fn ci95(xs: &[f64]) -> Option<f64> {
+    sample_std(xs).map(|s| 1.96 * s / (xs.len() as f64).sqrt())
+}
+
+impl CellMetrics {
+    fn of(done: &[&RunRecord]) -> Self {
+        let est =
+            |f: &dyn Fn(&RunRecord) -> Option<f64>| Estimate::of(&done.iter().filter_map(|r| f(r)).collect::<Vec<_>>());
+        let most = done.iter().map(|r| r.measured.targets_s.len()).max().unwrap_or(0);
+        CellMetrics {
+            collisions: est(&|r| Some(f64::from(r.collisions))),
+            coverage: est(&|r| r.measured.coverage),
+            half_coverage_s: est(&|r| r.measured.half_coverage_s()),
+            distance_m: est(&|r| Some(r.measured.distance_m)),
+            rotations: est(&|r| Some(r.measured.rotations)),
+            frames: est(&|r| r.measured.frames),
+            bytes: est(&|r| r.measured.bytes),
+            targets_s: (0..most).map(|k| est(&|r| r.measured.targets_s.get(k).copied())).collect(),
+        }
+    }
 }
 
 pub fn mean(xs: &[f64]) -> Option<f64> {
@@ -84,6 +194,7 @@ impl CellStats {
             mean_collisions: mean(&collisions),
             median_search_time_s: median(&times),
             mean_targets_found: mean(&found).unwrap_or(0.0),
+            metrics: CellMetrics::of(&done),
         }
     }
 }
@@ -93,7 +204,15 @@ mod tests {
     use super::*;
 
     fn rec(t: f64, complete: bool) -> RunRecord {
-        RunRecord { seed: 0, search_time_s: t, rounds: t as u32, collisions: 1, targets_found: 9, complete }
+        RunRecord {
+            seed: 0,
+            search_time_s: t,
+            rounds: t as u32,
+            collisions: 1,
+            targets_found: 9,
+            complete,
+            ..Default::default()
+        }
     }
 
     #[test]

@@ -6,6 +6,7 @@ pub mod figures;
 pub mod heatmap;
 pub mod live;
 pub mod mcap;
+pub mod metrics;
 pub mod output;
 pub mod palette;
 pub mod panels;

@@ -31,6 +31,9 @@ pub struct Series {
     pub colour: Option<usize>,
     /// Dash pattern index (0: solid), e.g. a second variable of the experiment.
     pub dash: usize,
+    /// The error drawn as a shaded band about the line, without marks at
+    /// the points (a curve of many points), instead of bars.
+    pub band: bool,
 }
 
 impl Series {
@@ -48,12 +51,18 @@ impl Series {
             points: points.into_iter().filter_map(|(x, y, e)| y.map(|y| (x, y, e.unwrap_or(0.0)))).collect(),
             colour: None,
             dash: 0,
+            band: false,
         }
     }
 
     /// The same series in palette colour `colour` and dash pattern `dash`.
     pub fn styled(self, colour: usize, dash: usize) -> Self {
         Series { colour: Some(colour), dash, ..self }
+    }
+
+    /// The same series with its error as a band ([`Series::band`]).
+    pub fn banded(self) -> Self {
+        Series { band: true, ..self }
     }
 }
 
@@ -71,6 +80,9 @@ pub struct Panel {
     /// Whether the panel draws its legend: panels whose series are those
     /// of another panel leave it out, so that no key hides their lines.
     pub legend: bool,
+    /// The x values this panel labels, when its axis is its own rather
+    /// than the figure's (curves over time whose ends differ).
+    pub xs: Option<Vec<f64>>,
 }
 
 impl Panel {
@@ -83,6 +95,7 @@ impl Panel {
             log_y: false,
             y_range: None,
             legend: true,
+            xs: None,
         }
     }
 }
@@ -150,7 +163,7 @@ pub fn panels_svg(title: &str, panels: &[Panel], xs: &[f64]) -> Result<String, S
         let root = root.titled(title, ("sans-serif", 20)).map_err(|e| e.to_string())?;
         let areas = root.split_evenly((rows, columns));
         for (panel, area) in panels.iter().zip(&areas) {
-            draw_panel(panel, area, x)?;
+            draw_panel(panel, area, panel.xs.as_deref().map_or(x, XAxis::of))?;
         }
         root.present().map_err(|e| e.to_string())?;
     }
@@ -229,6 +242,14 @@ fn draw_panel<DB: DrawingBackend>(
         .map_err(|e| e.to_string())?;
     for (k, s) in panel.series.iter().enumerate() {
         let c = colour(s.colour.unwrap_or(k));
+        if s.band {
+            let upper = s.points.iter().map(|&(x, y, e)| (x, tf(y + e)));
+            let lower =
+                s.points.iter().rev().map(|&(x, y, e)| (x, tf((y - e).max(if log_y { 1e-9 } else { f64::MIN }))));
+            chart
+                .draw_series([Polygon::new(upper.chain(lower).collect::<Vec<_>>(), c.mix(0.18).filled())])
+                .map_err(|e| e.to_string())?;
+        }
         let (dash, gap) = DASHES[s.dash % DASHES.len()];
         let line: Vec<(f64, f64)> = s.points.iter().map(|&(x, y, _)| (x, tf(y))).collect();
         let drawn = if dash == 0 {
@@ -244,6 +265,9 @@ fn draw_panel<DB: DrawingBackend>(
                 DashedPathElement::new(pts, dash, gap, c.stroke_width(2)).into_dyn()
             }
         });
+        if s.band {
+            continue;
+        }
         chart
             .draw_series(s.points.iter().map(|&(x, y, _)| Circle::new((x, tf(y)), 3, c.filled())))
             .map_err(|e| e.to_string())?;

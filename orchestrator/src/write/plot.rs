@@ -169,6 +169,7 @@ mod tests {
             mean_collisions: Some(0.0),
             median_search_time_s: m,
             mean_targets_found: 9.0,
+            metrics: Default::default(),
         }
     }
 

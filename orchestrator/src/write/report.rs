@@ -513,8 +513,9 @@ pub fn fig7(x: &Fig7Inputs) -> Report {
 /// The files a Fig. 7 sweep writes beside its report.
 fn files(maps: bool) -> Vec<(String, String)> {
     let mut f = vec![
-        ("results.csv", "the table above (map = all), and with several maps each map's cells"),
-        ("runs.csv", "every run: seed, time, rounds, collisions, targets, map"),
+        ("results.csv", "the table above (map = all), and with several maps each map's cells, with the runs' metrics"),
+        ("runs.csv", "every run: seed, time, rounds, collisions, targets, map, and its metrics"),
+        ("coverage.csv", "each cell's coverage against time (the figure's curves)"),
     ];
     if maps {
         f.push(("maps.csv", "every map: its scenario name (to rerun it alone), draws, time to make, obstacles"));
@@ -692,6 +693,7 @@ mod tests {
             mean_collisions: Some(0.5),
             median_search_time_s: Some(99.0),
             mean_targets_found: 9.0,
+            metrics: Default::default(),
         };
         let t = cells_table(std::slice::from_ref(&c), &crate::refs::Refs::default());
         assert_eq!(t.rows[0][..5], ["ru", "RU", "4", "4/5", "100.0"].map(String::from));

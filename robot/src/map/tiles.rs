@@ -431,6 +431,28 @@ impl Tiles {
         self.tiles.iter().flat_map(move |t| t.0[part..part + BITS].iter().copied()).take(self.vertices.div_ceil(64))
     }
 
+    /// The bytes postcard takes for [`Tiles::words`]' words, the visited
+    /// ones and the known ones, one varint each (a map's length on the
+    /// wire, without encoding it).
+    pub fn words_wire_len(&self) -> usize {
+        let words = self.vertices.div_ceil(64);
+        let (full, last) = (words / BITS, words % BITS);
+        let v = crate::protocol::varint_len;
+        let mut bytes = 0;
+        for t in &self.tiles[..full] {
+            for &w in &t.0[..MASKED] {
+                bytes += v(w);
+            }
+        }
+        if last > 0 {
+            let t = &self.tiles[full].0;
+            for k in 0..last {
+                bytes += v(t[VISITED + k]) + v(t[KNOWN + k]);
+            }
+        }
+        bytes
+    }
+
     /// The edge masks, one byte per vertex, appended to `out`: 64 vertices
     /// at a time, a word of masked bits saying whether they are all zeros,
     /// all the table's bytes, or some of each (a robot process encodes its

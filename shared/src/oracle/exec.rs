@@ -45,6 +45,9 @@ struct Walker {
     stalled: u32,
     /// A path around blocking robots, followed before the route resumes.
     detour: Vec<u32>,
+    /// Moves made, and turns to a new direction among them.
+    moves: u32,
+    turns: u32,
 }
 
 /// What one round did.
@@ -65,7 +68,8 @@ pub(super) struct Exec<'a> {
 }
 
 /// A robot at its route's start, about to follow it.
-fn walker(d: &Dist, route: Route, heading: Option<(i32, i32)>) -> Walker {
+/// A walker on `route`, with the heading, moves and turns it had so far.
+fn walker(d: &Dist, route: Route, (heading, moves, turns): (Option<(i32, i32)>, u32, u32)) -> Walker {
     let mut tail = vec![0u32; route.stops.len()];
     for p in (0..route.stops.len().saturating_sub(1)).rev() {
         tail[p] = tail[p + 1] + d.get(route.stops[p], route.stops[p + 1]);
@@ -80,6 +84,8 @@ fn walker(d: &Dist, route: Route, heading: Option<(i32, i32)>) -> Walker {
         best: u32::MAX,
         stalled: 0,
         detour: Vec::new(),
+        moves,
+        turns,
     }
 }
 
@@ -89,15 +95,15 @@ impl<'a> Exec<'a> {
         for r in &routes {
             visited.set(d.verts[r.start as usize] as usize);
         }
-        let walkers = routes.into_iter().map(|route| walker(d, route, None)).collect();
+        let walkers = routes.into_iter().map(|route| walker(d, route, (None, 0, 0))).collect();
         Exec { world, d, walkers, visited }
     }
 
     /// New routes from where the robots stand (route `k`'s start is robot
-    /// `k`'s vertex), headings and visits kept.
+    /// `k`'s vertex), headings, visits and counts kept.
     pub fn replan(&mut self, routes: Vec<Route>) {
-        let headings: Vec<_> = self.walkers.iter().map(|w| w.heading).collect();
-        self.walkers = routes.into_iter().zip(headings).map(|(r, h)| walker(self.d, r, h)).collect();
+        let kept: Vec<_> = self.walkers.iter().map(|w| (w.heading, w.moves, w.turns)).collect();
+        self.walkers = routes.into_iter().zip(kept).map(|(r, k)| walker(self.d, r, k)).collect();
         for k in 0..self.walkers.len() {
             self.skip_visited(k);
         }
@@ -110,6 +116,11 @@ impl<'a> Exec<'a> {
 
     pub fn position(&self, k: usize) -> VertexId {
         self.d.verts[self.walkers[k].at as usize]
+    }
+
+    /// Robot `k`'s moves so far, and its turns among them.
+    pub fn moves_and_turns(&self, k: usize) -> (u32, u32) {
+        (self.walkers[k].moves, self.walkers[k].turns)
     }
 
     /// Whether robot `k` has waypoints left.
@@ -317,6 +328,8 @@ impl<'a> Exec<'a> {
             let dir = (b.i - a.i, b.j - a.j);
             round.translated = true;
             round.rotated |= w.heading != Some(dir);
+            w.turns += u32::from(w.heading != Some(dir));
+            w.moves += 1;
             w.heading = Some(dir);
             w.at = to;
             if w.detour.last() == Some(&to) {

@@ -43,11 +43,12 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::bitset::Bitset;
 use crate::grid::VertexId;
-use crate::outcome::{Pose, RunConfig, RunResult};
+use crate::outcome::{Pose, RunConfig, RunMetrics, RunResult};
 use crate::params::Situation;
 use crate::policy::Policy;
 use crate::rng;
 use crate::sim::ProtocolStats;
+use crate::world::coverage::Coverage;
 use crate::world::World;
 
 use exec::Exec;
@@ -137,6 +138,8 @@ struct Search<'a> {
     round_end_times: Vec<f64>,
     round_collisions: Vec<u32>,
     trajectories: Vec<Vec<Pose>>,
+    coverage: Option<Coverage<'a>>,
+    targets_s: Vec<f64>,
 }
 
 impl<'a> Search<'a> {
@@ -166,6 +169,8 @@ impl<'a> Search<'a> {
             round_end_times: Vec::new(),
             round_collisions: Vec::new(),
             trajectories: if cfg.record_trajectories { vec![Vec::new(); starts.len()] } else { Vec::new() },
+            coverage: cfg.measure_coverage.then(|| Coverage::new(world)),
+            targets_s: Vec::new(),
         };
         s.sense();
         s
@@ -177,11 +182,20 @@ impl<'a> Search<'a> {
         for k in 0..self.robots {
             let v = self.exec.position(k);
             for &t in self.world.targets_near(v) {
-                self.found.set(t as usize);
+                if !self.found.get(t as usize) {
+                    self.found.set(t as usize);
+                    self.targets_s.push(self.time);
+                }
+            }
+            if let Some(c) = self.coverage.as_mut() {
+                c.stand(v);
             }
             if let Some(t) = self.trajectories.get_mut(k) {
                 t.push(Pose { vertex: Some(grid.coord(v)), position: grid.position(v) });
             }
+        }
+        if let Some(c) = self.coverage.as_mut() {
+            c.at(self.time);
         }
     }
 
@@ -245,7 +259,24 @@ impl<'a> Search<'a> {
         } else {
             "no_robots"
         };
-        let coverage = self.cfg.measure_coverage.then(|| world.detected_fraction_of(&self.exec.visited));
+        let mut cov = self.coverage;
+        // The cells `World::detected_fraction_of` counts, marked as the run went.
+        let coverage = cov.as_ref().map(|c| c.fraction());
+        let a = world.params.a;
+        let (distance_m, rotations) = (0..n)
+            .map(|k| {
+                let (moves, turns) = self.exec.moves_and_turns(k);
+                (f64::from(moves) * a, turns)
+            })
+            .unzip();
+        let metrics = RunMetrics {
+            coverage_s: cov.take().map(|c| c.curve()).unwrap_or_default(),
+            targets_s: self.targets_s,
+            distance_m,
+            rotations,
+            frames: Vec::new(),
+            bytes: Vec::new(),
+        };
         RunResult {
             algorithm: Policy::Oracle,
             robots: n,
@@ -263,6 +294,7 @@ impl<'a> Search<'a> {
             round_end_times_s: self.round_end_times,
             round_collisions: self.round_collisions,
             protocol: ProtocolStats { ended_by: ended.to_string(), moves: self.moves, ..Default::default() },
+            metrics,
         }
     }
 }

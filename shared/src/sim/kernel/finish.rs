@@ -3,7 +3,7 @@
 
 use super::{Body, Kernel};
 use crate::grid::VertexId;
-use crate::outcome::RunResult;
+use crate::outcome::{RunMetrics, RunResult};
 use crate::params::Situation;
 use crate::sim::Framed;
 
@@ -52,7 +52,17 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 self.stats.failures[i].unaware.push(w);
             }
         }
-        let coverage = self.cfg.measure_coverage.then(|| world.detected_fraction_of(self.referee.visited()));
+        // The cells `World::detected_fraction_of` counts, marked as the run went.
+        let coverage = self.coverage.as_ref().map(|c| c.fraction());
+        let a = world.params.a;
+        let metrics = RunMetrics {
+            coverage_s: self.coverage.map(|c| c.curve()).unwrap_or_default(),
+            targets_s: self.targets_s,
+            distance_m: self.referee.legs().iter().map(|&l| f64::from(l) * a).collect(),
+            rotations: self.referee.turns().to_vec(),
+            frames: self.bots.iter().map(|b| b.frames).collect(),
+            bytes: self.bots.iter().map(|b| b.bytes).collect(),
+        };
         let search_time_s = self.stats.stop_s.unwrap_or_else(|| self.round_end_times.last().copied().unwrap_or(0.0));
         RunResult {
             algorithm: self.cfg.policy,
@@ -71,6 +81,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             round_end_times_s: self.round_end_times,
             round_collisions: self.round_collisions,
             protocol: self.stats,
+            metrics,
         }
     }
 }

@@ -13,6 +13,7 @@ use crate::grid::VertexId;
 use crate::map::RobotId;
 use crate::outcome::{Pose, RunConfig, RunResult};
 use crate::referee::Referee;
+use crate::world::coverage::Coverage;
 use crate::world::World;
 use queue::Queue;
 
@@ -82,6 +83,9 @@ struct Bot<P> {
     /// Rounds at whose end this robot was not running and searching, as
     /// inclusive ranges.
     idle: Vec<(u32, u32)>,
+    /// Frames it handed to the radio, and their bytes on the wire.
+    frames: u64,
+    bytes: u64,
 }
 
 /// The world of one run.
@@ -128,6 +132,10 @@ pub struct Kernel<'w, P> {
     round_end_times: Vec<f64>,
     round_collisions: Vec<u32>,
     trajectories: Vec<Vec<Pose>>,
+    /// The detected fraction as the run goes, when measured.
+    coverage: Option<Coverage<'w>>,
+    /// When each target was first found, in order.
+    targets_s: Vec<f64>,
     /// `(failure record, robot, round)`: robots that timed out waiting on a failed robot.
     waiters: Vec<(usize, RobotId, u32)>,
     /// Frames of the last wake-ups that reach nobody, handed back to the
@@ -174,6 +182,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 motor: None,
                 tx_seq: 0,
                 idle: Vec::new(),
+                frames: 0,
+                bytes: 0,
             })
             .collect();
         let mut k = Kernel {
@@ -208,6 +218,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             round_end_times: Vec::new(),
             round_collisions: Vec::new(),
             trajectories: if cfg.record_trajectories { vec![Vec::new(); n] } else { Vec::new() },
+            coverage: cfg.measure_coverage.then(|| Coverage::new(world)),
+            targets_s: Vec::new(),
             waiters: Vec::new(),
             unheard: Vec::new(),
             trace: std::env::var_os("GRIDSWARM_TRACE").is_some(),
@@ -217,6 +229,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             fates: (Vec::new(), Vec::new()),
         };
         k.record_poses();
+        k.cover(0);
         k.push(0, Ev::SlotStart);
         k
     }
@@ -235,6 +248,16 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         if !self.bots[r].marked {
             self.bots[r].marked = true;
             self.marked.push(r as u32);
+        }
+    }
+
+    /// Marks where the robots stand as detected by time `at`.
+    fn cover(&mut self, at: Time) {
+        if let Some(c) = self.coverage.as_mut() {
+            for &v in self.referee.positions() {
+                c.stand(v);
+            }
+            c.at(seconds(at));
         }
     }
 
@@ -399,8 +422,12 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
 
     fn tick(&mut self, r: usize) -> Tick {
         let (open, occupied) = self.referee.sonar(r);
+        let found = self.referee.found_count();
         let world = self.world;
         let targets = self.referee.laser(r).iter().map(|&t| world.spot(t)).collect();
+        for _ in found..self.referee.found_count() {
+            self.targets_s.push(seconds(self.now));
+        }
         let tick =
             Tick { round: self.round, start: self.slot_start, at: self.referee.position(r), open, occupied, targets };
         if let Some(w) = self.watch.as_deref_mut() {
@@ -535,8 +562,11 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         st.frames += 1;
         st.transmissions += copies as u64;
         st.retransmissions += copies as u64 - 1;
-        let seq = self.bots[r].tx_seq;
-        self.bots[r].tx_seq += 1;
+        let b = &mut self.bots[r];
+        let seq = b.tx_seq;
+        b.tx_seq += 1;
+        b.frames += 1;
+        b.bytes += payload.wire_len() as u64;
         let from = r as RobotId;
         if !self.stop_heard && payload.carries_stop() {
             let round = payload.header().map_or(self.round, |h| h.round);
@@ -708,6 +738,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         self.robot_rounds += searching;
         self.round += 1;
         self.record_poses();
+        self.cover(end);
         if self.stop_heard {
             // Step 8: the stop reached the human controller, and the record
             // of the search ends with this slot. No robot is told anything:
