@@ -424,6 +424,49 @@ mod tests {
         assert!(matches!(decode(&long, &LIMITS), Err(DecodeError::Format(_))));
     }
 
+    /// A map's length is remembered tile by tile: asked for between
+    /// changes of every kind (marks, merges, copies sent, copies into
+    /// earlier copies), it is still its encoding's.
+    #[test]
+    fn a_maps_remembered_length_follows_its_changes() {
+        // Asked of the map itself, so its own memo is filled from now on.
+        let check = |m: &Map, what: &str| {
+            assert_eq!(m.wire_len(), postcard::to_allocvec(m).unwrap().len(), "{what}");
+        };
+        let (mut a, mut b) = (Map::new(1100), Map::new(1100));
+        check(&a, "empty");
+        for v in (0..1100).step_by(37) {
+            a.set_visited(v, true);
+            check(&a, "a marked");
+        }
+        for v in (5..1100).step_by(3) {
+            b.set_known(v, true);
+            b.set_visited(v + 1, true);
+        }
+        check(&b, "b");
+        a.merge(&b);
+        check(&a, "a merged with b");
+        let mut sent = a.send_copy(1, None);
+        check(&sent, "first copy");
+        a.set_visited(1099, true);
+        a.set_known(0, true);
+        check(&a, "a after its copy");
+        sent = a.send_copy(2, Some((sent, 1)));
+        check(&sent, "copy into the last copy");
+        assert_eq!(postcard::to_allocvec(&sent).unwrap(), postcard::to_allocvec(&a).unwrap());
+        let mut c = Map::new(1100);
+        c.set_visited(700, true);
+        check(&c, "c");
+        c.merge_changes(&a);
+        check(&c, "c merged with a's changes");
+        b.merge(&c);
+        check(&b, "b merged with c");
+        let mut d = b.clone();
+        d.set_visited(3, true);
+        check(&d, "a clone marked");
+        check(&b, "its original");
+    }
+
     proptest! {
         /// Maps of every size and content: long varints, empty tiles, lists.
         #[test]

@@ -165,7 +165,16 @@ pub struct Tiles {
     /// receiver that merged that one merges only these
     /// ([`Tiles::merge_changes`]).
     changed: Bitset,
+    /// A memo per tile of [`Tiles::words_wire_len`]'s share, [`UNKNOWN`]
+    /// until asked for and again once the tile changes: every map a robot
+    /// sends is counted, and summing every word of every tile each time
+    /// (tiles all over memory) was a twentieth of a sweep.
+    lens: Vec<Cell<u8>>,
 }
+
+/// A tile's entry in [`Tiles::lens`] not worked out (a tile's words take
+/// at most 8 x 10 bytes).
+const UNKNOWN: u8 = u8::MAX;
 
 impl Clone for Tiles {
     fn clone(&self) -> Self {
@@ -174,6 +183,7 @@ impl Clone for Tiles {
             tiles: self.tiles.clone(),
             masks: Rc::clone(&self.masks),
             changed: self.changed.clone(),
+            lens: self.lens.clone(),
         }
     }
 
@@ -182,6 +192,7 @@ impl Clone for Tiles {
         self.vertices = source.vertices;
         self.masks = Rc::clone(&source.masks);
         self.changed.clone_from(&source.changed);
+        self.lens.clone_from(&source.lens);
         if self.tiles.len() != source.tiles.len() {
             self.tiles.clone_from(&source.tiles);
             return;
@@ -235,6 +246,7 @@ impl Tiles {
             tiles: vec![empty(); n],
             masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)),
             changed: Bitset::new(n),
+            lens: vec![Cell::new(UNKNOWN); n],
         }
     }
 
@@ -245,6 +257,7 @@ impl Tiles {
     /// The tile of `v`, this map's own from now on (copied if shared).
     fn at_mut(&mut self, v: usize) -> (&mut Tile, usize) {
         self.changed.set(v / TILE);
+        self.lens[v / TILE].set(UNKNOWN);
         (Rc::make_mut(&mut self.tiles[v / TILE]), v % TILE)
     }
 
@@ -268,6 +281,7 @@ impl Tiles {
         self.masks = Rc::clone(&source.masks);
         for i in source.changed.iter() {
             self.tiles[i].clone_from(&source.tiles[i]);
+            self.lens[i].set(source.lens[i].get());
         }
         self.changed.clone_from(&source.changed);
     }
@@ -412,7 +426,9 @@ impl Tiles {
             // Equal tiles too: shared from now on, the next merge skips them.
             if !less {
                 *mine = Rc::clone(theirs);
+                self.lens[i].set(other.lens[i].get());
             } else if more {
+                self.lens[i].set(UNKNOWN);
                 for (a, b) in Rc::make_mut(mine).0.iter_mut().zip(&theirs.0) {
                     *a |= b;
                 }
@@ -439,10 +455,11 @@ impl Tiles {
         let (full, last) = (words / BITS, words % BITS);
         let v = crate::protocol::varint_len;
         let mut bytes = 0;
-        for t in &self.tiles[..full] {
-            for &w in &t.0[..MASKED] {
-                bytes += v(w);
+        for (t, len) in self.tiles[..full].iter().zip(&self.lens) {
+            if len.get() == UNKNOWN {
+                len.set(t.0[..MASKED].iter().map(|&w| v(w) as u8).sum());
             }
+            bytes += usize::from(len.get());
         }
         if last > 0 {
             let t = &self.tiles[full].0;
