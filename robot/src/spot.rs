@@ -32,17 +32,40 @@ impl Spot {
 /// coordinate as a zigzag varint. Summed by hand, as every frame a robot
 /// sends is counted.
 pub fn wire_len(spots: &[Spot]) -> usize {
-    let v = crate::protocol::varint_len;
-    let zigzag = |c: i32| v(((c << 1) ^ (c >> 31)) as u32 as u64);
-    v(spots.len() as u64) + spots.iter().map(|s| zigzag(s.x) + zigzag(s.y)).sum::<usize>()
+    crate::protocol::varint_len(spots.len() as u64) + spots.iter().map(|&s| coords_len(s)).sum::<usize>()
+}
+
+/// The bytes of a spot's two coordinates, zigzag varints.
+fn coords_len(s: Spot) -> usize {
+    let zigzag = |c: i32| crate::protocol::varint_len(((c << 1) ^ (c >> 31)) as u32 as u64);
+    zigzag(s.x) + zigzag(s.y)
 }
 
 /// Targets known found, as a sorted set of spots. It grows as targets are
 /// learnt: in situation 2 a robot does not know how many there are. On the
 /// wire, a sequence of spots.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(transparent)]
-pub struct Spots(Vec<Spot>);
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Spots(Vec<Spot>, Coords);
+
+/// The bytes of a set's coordinates on the wire, kept as the set changes:
+/// a robot's map counts them at every send ([`Spots::wire_len`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Coords(usize);
+
+impl Serialize for Spots {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Spots {
+    /// As sent, sorted or not ([`Spots::is_canonical`] tells).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let spots = Vec::<Spot>::deserialize(d)?;
+        let coords = Coords(spots.iter().map(|&s| coords_len(s)).sum());
+        Ok(Spots(spots, coords))
+    }
+}
 
 impl Spots {
     pub fn count(&self) -> usize {
@@ -51,7 +74,7 @@ impl Spots {
 
     /// The bytes postcard writes for this set ([`wire_len`]).
     pub fn wire_len(&self) -> usize {
-        wire_len(&self.0)
+        crate::protocol::varint_len(self.0.len() as u64) + self.1 .0
     }
 
     pub fn contains(&self, s: Spot) -> bool {
@@ -64,6 +87,7 @@ impl Spots {
             Ok(_) => false,
             Err(k) => {
                 self.0.insert(k, s);
+                self.1 .0 += coords_len(s);
                 true
             }
         }
@@ -92,6 +116,7 @@ impl Spots {
 
     pub fn clone_from_spots(&mut self, other: &Spots) {
         self.0.clone_from(&other.0);
+        self.1 = other.1;
     }
 }
 
@@ -130,7 +155,7 @@ mod tests {
         a.union(&b);
         assert_eq!(a.iter().map(|p| p.x).collect::<Vec<_>>(), [1, 2, 3]);
         assert!(a.contains(s(2)) && !a.contains(s(4)));
-        assert!(!Spots(vec![s(2), s(1)]).is_canonical());
-        assert!(!Spots(vec![s(1), s(1)]).is_canonical());
+        assert!(!Spots(vec![s(2), s(1)], Coords(0)).is_canonical());
+        assert!(!Spots(vec![s(1), s(1)], Coords(0)).is_canonical());
     }
 }
