@@ -139,7 +139,10 @@ fn a_set_sweep_has_a_column_per_key_shares_its_seeds_and_reruns_byte_for_byte() 
 
     let results = fs::read_to_string(out.join("results.csv")).unwrap();
     let head = results.lines().next().unwrap();
-    assert!(head.contains(",map,oracle_reference_s,oracle_runs,lower_bound_s,") && head.ends_with(",t_trans,r_st"), "{head}");
+    assert!(
+        head.contains(",map,oracle_reference_s,oracle_runs,lower_bound_s,") && head.ends_with(",t_trans,r_st"),
+        "{head}"
+    );
     assert_eq!(results.lines().count(), 1 + 4 * 2, "a row per combination and robot count");
     let runs = fs::read_to_string(out.join("runs.csv")).unwrap();
     let rows: Vec<Vec<&str>> = runs.lines().skip(1).map(|l| l.split(',').collect()).collect();
