@@ -424,7 +424,7 @@ mod tests {
         assert!(matches!(decode(&long, &LIMITS), Err(DecodeError::Format(_))));
     }
 
-    /// A map's length is remembered tile by tile: asked for between
+    /// A map's length is kept tile by tile: asked for between
     /// changes of every kind (marks, merges, copies sent, copies into
     /// earlier copies), it is still its encoding's.
     #[test]

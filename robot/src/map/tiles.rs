@@ -165,16 +165,18 @@ pub struct Tiles {
     /// receiver that merged that one merges only these
     /// ([`Tiles::merge_changes`]).
     changed: Bitset,
-    /// A memo per tile of [`Tiles::words_wire_len`]'s share, [`UNKNOWN`]
-    /// until asked for and again once the tile changes: every map a robot
-    /// sends is counted, and summing every word of every tile each time
-    /// (tiles all over memory) was a twentieth of a sweep.
-    lens: Vec<Cell<u8>>,
+    /// Per tile, its visited and known words' bytes on the wire, kept as
+    /// the tile changes: every map a robot sends is counted
+    /// ([`Tiles::words_wire_len`]), and summing every word of every tile
+    /// each time (tiles all over memory) cost more than the few words a
+    /// change touches.
+    lens: Vec<u8>,
 }
 
-/// A tile's entry in [`Tiles::lens`] not worked out (a tile's words take
-/// at most 8 x 10 bytes).
-const UNKNOWN: u8 = u8::MAX;
+/// A tile's visited and known words' bytes on the wire (at most 8 x 10).
+fn tile_len(t: &Tile) -> u8 {
+    t.0[..MASKED].iter().map(|&w| crate::protocol::varint_len(w) as u8).sum()
+}
 
 impl Clone for Tiles {
     fn clone(&self) -> Self {
@@ -246,7 +248,7 @@ impl Tiles {
             tiles: vec![empty(); n],
             masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)),
             changed: Bitset::new(n),
-            lens: vec![Cell::new(UNKNOWN); n],
+            lens: vec![tile_len(&Tile::EMPTY); n],
         }
     }
 
@@ -257,7 +259,6 @@ impl Tiles {
     /// The tile of `v`, this map's own from now on (copied if shared).
     fn at_mut(&mut self, v: usize) -> (&mut Tile, usize) {
         self.changed.set(v / TILE);
-        self.lens[v / TILE].set(UNKNOWN);
         (Rc::make_mut(&mut self.tiles[v / TILE]), v % TILE)
     }
 
@@ -281,7 +282,7 @@ impl Tiles {
         self.masks = Rc::clone(&source.masks);
         for i in source.changed.iter() {
             self.tiles[i].clone_from(&source.tiles[i]);
-            self.lens[i].set(source.lens[i].get());
+            self.lens[i] = source.lens[i];
         }
         self.changed.clone_from(&source.changed);
     }
@@ -314,16 +315,25 @@ impl Tiles {
 
     pub fn set_visited(&mut self, v: usize, on: bool) {
         if self.visited(v) != on {
-            let (t, k) = self.at_mut(v);
-            t.set_bit(VISITED, k, on);
+            self.set_bit(VISITED, v, on);
         }
     }
 
     pub fn set_known(&mut self, v: usize, on: bool) {
         if self.known(v) != on {
-            let (t, k) = self.at_mut(v);
-            t.set_bit(KNOWN, k, on);
+            self.set_bit(KNOWN, v, on);
         }
+    }
+
+    /// Sets `v`'s bit of `part` (visited or known), and the tile's length.
+    fn set_bit(&mut self, part: usize, v: usize, on: bool) {
+        let (t, k) = self.at_mut(v);
+        let w = part + k / 64;
+        let before = crate::protocol::varint_len(t.0[w]) as u8;
+        t.set_bit(part, k, on);
+        let after = crate::protocol::varint_len(t.0[w]) as u8;
+        let len = &mut self.lens[v / TILE];
+        *len = *len + after - before;
     }
 
     pub fn or_open(&mut self, v: usize, bits: u8) {
@@ -426,12 +436,13 @@ impl Tiles {
             // Equal tiles too: shared from now on, the next merge skips them.
             if !less {
                 *mine = Rc::clone(theirs);
-                self.lens[i].set(other.lens[i].get());
+                self.lens[i] = other.lens[i];
             } else if more {
-                self.lens[i].set(UNKNOWN);
-                for (a, b) in Rc::make_mut(mine).0.iter_mut().zip(&theirs.0) {
+                let mine = Rc::make_mut(mine);
+                for (a, b) in mine.0.iter_mut().zip(&theirs.0) {
                     *a |= b;
                 }
+                self.lens[i] = tile_len(mine);
             }
         }
     }
@@ -455,11 +466,8 @@ impl Tiles {
         let (full, last) = (words / BITS, words % BITS);
         let v = crate::protocol::varint_len;
         let mut bytes = 0;
-        for (t, len) in self.tiles[..full].iter().zip(&self.lens) {
-            if len.get() == UNKNOWN {
-                len.set(t.0[..MASKED].iter().map(|&w| v(w) as u8).sum());
-            }
-            bytes += usize::from(len.get());
+        for &len in &self.lens[..full] {
+            bytes += usize::from(len);
         }
         if last > 0 {
             let t = &self.tiles[full].0;
@@ -522,6 +530,7 @@ impl Tiles {
                 tile.0[MASKED + w] = t.take_masks(first, chunk);
             }
             if tile != Tile::EMPTY {
+                t.lens[k] = tile_len(&tile);
                 t.tiles[k] = Rc::new(tile);
             }
         }
