@@ -50,7 +50,8 @@ enum Command {
     Simulate {
         #[command(flatten)]
         scenario: ScenarioArg,
-        /// repulsive, sequential, ru, lfp, escape, frontier or oracle (a reference planner).
+        /// repulsive, sequential, ru, lfp, escape, frontier, frontier-coord, frontier-sensed,
+        /// frontier-sensed-coord or oracle (a reference planner).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots [default: the scenario's].
@@ -92,7 +93,8 @@ enum Command {
         kind: Option<ExperimentKind>,
         #[command(flatten)]
         scenario: ScenarioArg,
-        /// Comma-separated algorithms (repulsive, sequential, ru, lfp, escape, frontier, oracle).
+        /// Comma-separated algorithms (repulsive, sequential, ru, lfp, escape, frontier,
+        /// frontier-coord, frontier-sensed, frontier-sensed-coord, oracle).
         #[arg(long, value_delimiter = ',', default_value = DEFAULT_ALGORITHMS, conflicts_with = "grids")]
         algorithms: Vec<Policy>,
         /// Robot counts: `1-13`, `5` or `1,3,5`.
@@ -157,7 +159,8 @@ enum Command {
     Run {
         #[command(flatten)]
         scenario: ScenarioArg,
-        /// repulsive, sequential, ru, escape, frontier, or one --agent-bin lists (grid policies only).
+        /// repulsive, sequential, ru, escape, frontier, frontier-coord, frontier-sensed,
+        /// frontier-sensed-coord, or one --agent-bin lists (grid policies only).
         #[arg(long, default_value = "repulsive")]
         algorithm: Policy,
         /// Number of robots [default: the scenario's].

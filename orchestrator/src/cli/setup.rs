@@ -29,7 +29,8 @@ pub struct SetupArgs {
     /// as the world's `--scenario`.
     #[arg(long, default_value = "paper")]
     pub scenario: String,
-    /// repulsive, sequential, ru, escape, frontier, or one --agent-bin lists, as the world's.
+    /// repulsive, sequential, ru, escape, frontier, frontier-coord, frontier-sensed,
+    /// frontier-sensed-coord, or one --agent-bin lists, as the world's.
     #[arg(long, default_value = "repulsive")]
     pub algorithm: Policy,
     /// The run's seed, as the world's.
