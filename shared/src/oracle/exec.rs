@@ -2,7 +2,9 @@
 //! per round, the way the world moves robots: collisions are avoided by
 //! waiting. Each round the robots with the most route left go first; a move
 //! that would end on a vertex another robot holds or will hold, or come
-//! within `2 r_safe` of another robot's motion, waits a round. A robot
+//! within `2 r_safe` of another robot's motion, waits a round; one in the
+//! way only of robots not decided yet is decided after them, so a robot
+//! follows another through a corridor without a gap. A robot
 //! blocked for [`DETOUR_AFTER`] rounds takes a shortest path around the
 //! robots in its way, if there is one, or has the robot in its way step
 //! aside; a robot done with its route steps aside at once. Robots kept
@@ -159,13 +161,25 @@ impl<'a> Exec<'a> {
         order.sort_by_key(|&k| (std::cmp::Reverse(self.walkers[k].blocked), std::cmp::Reverse(self.remaining(k)), k));
         let mut end: Vec<Option<u32>> = vec![None; n];
         let mut round = Round::default();
-        for &k in &order {
+        // A robot in the way of one not yet decided is taken again after the
+        // others, once: a robot following another into a corridor takes the
+        // vertex the other leaves in the same round instead of waiting a
+        // round behind it (robots went in order of route left, and the
+        // follower often has more).
+        let mut queue: Vec<(usize, bool)> = order.iter().map(|&k| (k, true)).collect();
+        let mut next = 0;
+        while let Some(&(k, first)) = queue.get(next) {
+            next += 1;
             if end[k].is_some() {
                 // Pushed aside by a robot that went before it.
                 continue;
             }
             let Some(to) = self.wish(k) else { continue };
             let mut clashes = self.clashes(k, to, &end);
+            if clashes > 0 && first && self.undecided_in_way(k, to, &end) {
+                queue.push((k, false));
+                continue;
+            }
             if clashes > 0 && self.step_aside(to, k, &mut end) {
                 clashes = self.clashes(k, to, &end);
             }
@@ -216,6 +230,20 @@ impl<'a> Exec<'a> {
             }
         }
         count
+    }
+
+    /// Whether a robot with a route, not decided yet this round, stands
+    /// where the move of `k` to `to` would meet it. Every move is checked
+    /// against every decided one when it is made, so deciding `k` later is
+    /// as safe as deciding it now.
+    fn undecided_in_way(&self, k: usize, to: u32, end: &[Option<u32>]) -> bool {
+        let from = self.walkers[k].at;
+        self.walkers.iter().enumerate().any(|(j, w)| {
+            j != k
+                && end[j].is_none()
+                && self.busy(j)
+                && (w.at == to || (w.at != from && self.meets(from, to, w.at, w.at)))
+        })
     }
 
     /// The robot standing on `v`, where robot `k` wants to go, moves to a

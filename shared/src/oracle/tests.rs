@@ -42,22 +42,28 @@ fn situation_two_visits_every_vertex_of_va_along_traversable_edges() {
     }
 }
 
+/// No two robots come within `2 r_safe` in any round, followers taking the
+/// vertex their leader leaves included (corridors on `cave` and `comb`).
 #[test]
 fn robots_never_meet() {
-    let (w, starts) = load("paper");
-    let limit = 2.0 * w.params.r_safe;
-    let r = run(&w, &starts, &cfg(1, Situation::Two));
-    for k in 0..r.rounds as usize {
-        for i in 0..starts.len() {
-            for j in i + 1..starts.len() {
-                let (a, b) = (&r.trajectories[i], &r.trajectories[j]);
-                let d = crate::geometry::swept_min_distance(
-                    a[k].position,
-                    a[k + 1].position,
-                    b[k].position,
-                    b[k + 1].position,
-                );
-                assert!(d >= limit, "robots {i} and {j} meet in round {k}");
+    for name in ["paper", "cave", "comb", "open"] {
+        let (w, starts) = load(name);
+        let limit = 2.0 * w.params.r_safe;
+        for (seed, situation) in [(1, Situation::Two), (2, Situation::One), (3, Situation::One)] {
+            let r = run(&w, &starts, &cfg(seed, situation));
+            for k in 0..r.rounds as usize {
+                for i in 0..starts.len() {
+                    for j in i + 1..starts.len() {
+                        let (a, b) = (&r.trajectories[i], &r.trajectories[j]);
+                        let d = crate::geometry::swept_min_distance(
+                            a[k].position,
+                            a[k + 1].position,
+                            b[k].position,
+                            b[k + 1].position,
+                        );
+                        assert!(d >= limit, "{name} seed {seed}: robots {i} and {j} meet in round {k}");
+                    }
+                }
             }
         }
     }
