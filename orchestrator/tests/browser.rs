@@ -38,11 +38,36 @@ fn chromium() -> PathBuf {
 }
 
 /// Runs chromium headless on `url` with a fresh profile in `work`, killing
-/// it if it hangs. Returns stdout. Its shared memory goes to the profile
-/// (`--disable-dev-shm-usage` with `TMPDIR` there), removed with it: chromium
-/// leaves files in /dev/shm otherwise.
+/// it if it hangs. Returns stdout. Its shared memory goes to a temporary
+/// folder of its own (`--disable-dev-shm-usage` with `TMPDIR` there),
+/// removed after it: chromium leaves files in /dev/shm otherwise. That
+/// folder is a short path under the system's temporary folder, not in
+/// `work`: chromium makes a Unix socket in `TMPDIR`, and a socket's path
+/// may not pass 108 bytes, which a checkout a few folders deep did (the
+/// browser crashed when the repository's path passed about 20 characters).
 fn headless(work: &Path, extra: &[String], url: &str) -> String {
     headless_sized(work, "1200,900", extra, url)
+}
+
+/// A folder of its own under the system's temporary folder, removed when
+/// dropped (also when a test panics).
+struct ShortTmp(PathBuf);
+
+impl ShortTmp {
+    fn new() -> Self {
+        static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let d = std::env::temp_dir().join(format!("gridswarm-chromium-{}-{k}", std::process::id()));
+        let _ = fs::remove_dir_all(&d);
+        fs::create_dir_all(&d).unwrap();
+        ShortTmp(d)
+    }
+}
+
+impl Drop for ShortTmp {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.0);
+    }
 }
 
 /// [`headless`] in a window of `size` (`W,H` pixels).
@@ -50,6 +75,7 @@ fn headless_sized(work: &Path, size: &str, extra: &[String], url: &str) -> Strin
     let profile = work.join(format!("profile-{}", std::process::id()));
     let _ = fs::remove_dir_all(&profile);
     fs::create_dir_all(&profile).unwrap();
+    let tmp = ShortTmp::new();
     let mut cmd = Command::new(chromium());
     cmd.args([
         "--headless",
@@ -64,7 +90,7 @@ fn headless_sized(work: &Path, size: &str, extra: &[String], url: &str) -> Strin
         "--disable-dev-shm-usage",
     ])
     .arg(format!("--window-size={size}"))
-    .env("TMPDIR", &profile)
+    .env("TMPDIR", &tmp.0)
     .arg(format!("--user-data-dir={}", profile.display()))
     .args(extra)
     .arg(url)

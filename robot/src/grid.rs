@@ -123,3 +123,30 @@ impl Grid {
         self.id_of(self.lattice.nearest(p))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every edge read from its other end sits in the opposite slot: what
+    /// `Map::edge_open` relies on to read an edge sensed from one end. On
+    /// the honeycomb the two sublattices list opposite offsets in the same
+    /// slot, so there the opposite of a slot is itself.
+    #[test]
+    fn an_edge_read_from_its_other_end_is_in_the_opposite_slot() {
+        for kind in [LatticeKind::Triangular, LatticeKind::Square, LatticeKind::Hexagonal] {
+            let g = Grid::new(Lattice::new(kind, 1.0), Point::new(0.0, 0.0), Point::new(9.0, 7.0));
+            let mut edges = 0;
+            for v in 0..g.len() as VertexId {
+                for d in 0..g.degree() {
+                    let n = g.neighbors(v)[d];
+                    if n != NONE {
+                        assert_eq!(g.neighbors(n)[g.opposite(d)], v, "{kind:?}: {v} slot {d} to {n}");
+                        edges += 1;
+                    }
+                }
+            }
+            assert!(edges > 2 * g.len(), "{kind:?}: a grid with edges ({edges})");
+        }
+    }
+}

@@ -150,8 +150,10 @@ impl Lattice {
             LatticeKind::Triangular => &TRI_DIRS,
             LatticeKind::Square => &SQ_DIRS,
             LatticeKind::Hexagonal => {
+                // B's slot d is A's slot d reversed, so that an edge read
+                // from either end sits in the same slot (`Grid::opposite`).
                 const A: [(i32, i32); 3] = [(1, 0), (-1, 1), (0, -1)];
-                const B: [(i32, i32); 3] = [(0, 1), (-1, 0), (1, -1)];
+                const B: [(i32, i32); 3] = [(-1, 0), (1, -1), (0, 1)];
                 if (c.i - c.j).rem_euclid(3) == 1 {
                     &A
                 } else {

@@ -77,10 +77,7 @@ fn comb_loads_and_every_grid_rule_completes_it() {
     assert_eq!((s.name.as_str(), s.targets.len()), ("comb", 9));
     let world = s.world();
     let all = s.start_vertices(&world, 13).unwrap();
-    let mut policies = vec![Policy::Repulsive, Policy::Sequential, Policy::Ru, Policy::Escape, Policy::Frontier];
-    policies
-        .extend(["frontier-coord", "frontier-sensed", "frontier-sensed-coord"].map(|n| n.parse::<Policy>().unwrap()));
-    for policy in policies {
+    for policy in (0..gridswarm::vopr::POLICIES.len()).map(gridswarm::vopr::policy) {
         for robots in [1, 5, 13] {
             for seed in 0..4 {
                 let situation = if seed % 2 == 0 { Situation::One } else { Situation::Two };

@@ -109,16 +109,7 @@ fn same_trajectories_as_simulate_for_every_grid_policy() {
     ];
     let mut compared = 0;
     for &(scenario, robots, seed, situations) in cases {
-        for policy in [
-            "repulsive",
-            "sequential",
-            "ru",
-            "escape",
-            "frontier",
-            "frontier-coord",
-            "frontier-sensed",
-            "frontier-sensed-coord",
-        ] {
+        for policy in gridswarm::vopr::POLICIES {
             for sit in situations.chars().map(|c| c.to_string()) {
                 let args = [
                     "--scenario",

@@ -63,10 +63,11 @@ impl FrontierCoord {
             if !steps.is_empty() {
                 return uniform(rng, &steps);
             }
-            // No way back from the frontier was found (on the honeycomb
-            // lattice an edge known from one end only can read closed from
-            // the other): staying, or stepping at random, would be for
-            // good; `frontier` takes the unvisited vertex next to it first.
+            // No first step towards the frontier was found (the search
+            // from it may close edges the search to it passed: on the
+            // honeycomb a misread edge once did so for good): staying, or
+            // stepping at random, could repeat for ever; `frontier` takes
+            // the unvisited vertex next to it first.
             return self.fallback.choose(view, rng);
         }
         // No frontier the robot can start towards this round: a random

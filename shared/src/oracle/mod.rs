@@ -7,8 +7,8 @@
 //!   rule 4 must visit them all; in situation 1 a set of vertices whose
 //!   sensing discs cover the area ([`cover`]), planned again for the rest
 //!   of `Va` should targets be missing once they are all visited. It is a
-//!   reference, not a lower bound: turns are charged, not planned
-//!   (`crate::bound` has a lower bound).
+//!   reference, not a lower bound: the routes are planned in moves, not
+//!   turns (`crate::bound` has a lower bound).
 //! - **Plan** ([`plan`]): every waypoint is assigned to one robot. A greedy
 //!   multi-robot tour (the
 //!   robot whose route ends earliest extends it to its nearest unassigned
@@ -18,11 +18,17 @@
 //! - **Execution** ([`exec`]): real trajectories, one traversable edge per
 //!   robot per round, all robots at once. Collisions are avoided in the
 //!   plan's execution by waiting a round (robots kept waiting, then those
-//!   with the most left, go first), with detours, robots in the way
-//!   stepping aside, and a robot blocked for 20 rounds by another trading
+//!   with the most left, go first; a robot in the way only of robots not
+//!   decided yet goes after them, so followers close up), with detours,
+//!   robots in the way stepping aside, and a robot blocked for 20 rounds
+//!   by another trading
 //!   the rest of its route with it; only a robot blocked for 100 rounds
 //!   would move anyway, counted as a collision (none in the tests' runs on
-//!   the built-in and random maps).
+//!   the built-in and random maps). Turns are planned across the team:
+//!   a robot whose next move is a turn stands in a round nobody must turn
+//!   in, when that makes the team's moves per second higher, and robots
+//!   standing in a round someone turns in turn on the spot to face their
+//!   next move (`Exec::turning`).
 //! - **Time**: motion only, per the params' move model as the world charges
 //!   it: a round lasts `t_trans` if any robot translates (or waits for
 //!   another), plus `t_rot` if any robot turns; no radio protocol, no
