@@ -345,6 +345,15 @@ mod tests {
         }
     }
 
+    /// A robot's frames move by value (`Transmit`, 16 bytes more): past
+    /// 256 bytes a move is a longer copy, and the map's wire lengths kept
+    /// beside its tiles had pushed it there.
+    #[cfg(target_pointer_width = "64")]
+    #[test]
+    fn a_frame_is_at_most_240_bytes() {
+        assert!(std::mem::size_of::<Frame>() <= 240, "{}", std::mem::size_of::<Frame>());
+    }
+
     #[test]
     fn a_frames_length_is_its_encodings() {
         for f in frames() {

@@ -156,7 +156,10 @@ impl Drop for SharedMasks {
 /// The per-vertex parts of a map of `vertices` vertices.
 #[derive(Default)]
 pub struct Tiles {
-    vertices: usize,
+    /// As `u32`, beside `total`: a map travels by value in every frame,
+    /// and a frame larger than 240 bytes made each move of one (a
+    /// `Transmit`) a longer copy.
+    vertices: u32,
     tiles: Vec<Rc<Tile>>,
     masks: Rc<Masks>,
     /// A bit a tile: its content may have changed since the last
@@ -170,7 +173,9 @@ pub struct Tiles {
     /// ([`Tiles::words_wire_len`]), and summing every word of every tile
     /// each time (tiles all over memory) cost more than the few words a
     /// change touches.
-    lens: Vec<u8>,
+    lens: Box<[u8]>,
+    /// The sum of `lens`: a send reads this, not every tile's length.
+    total: u32,
 }
 
 /// A tile's visited and known words' bytes on the wire (at most 8 x 10).
@@ -186,6 +191,7 @@ impl Clone for Tiles {
             masks: Rc::clone(&self.masks),
             changed: self.changed.clone(),
             lens: self.lens.clone(),
+            total: self.total,
         }
     }
 
@@ -195,6 +201,7 @@ impl Clone for Tiles {
         self.masks = Rc::clone(&source.masks);
         self.changed.clone_from(&source.changed);
         self.lens.clone_from(&source.lens);
+        self.total = source.total;
         if self.tiles.len() != source.tiles.len() {
             self.tiles.clone_from(&source.tiles);
             return;
@@ -214,7 +221,7 @@ impl Clone for Tiles {
 impl PartialEq for Tiles {
     fn eq(&self, other: &Self) -> bool {
         let same = Rc::ptr_eq(&self.masks, &other.masks);
-        self.vertices == other.vertices
+        self.vertices() == other.vertices()
             && self.tiles.len() == other.tiles.len()
             && self.tiles.iter().zip(&other.tiles).enumerate().all(|(i, (a, b))| {
                 Rc::ptr_eq(a, b)
@@ -231,7 +238,7 @@ impl std::fmt::Debug for Tiles {
         let n = self.tiles.len() * TILE;
         let set = |on: fn(&Tiles, usize) -> bool| (0..n).filter(|&v| on(self, v)).collect::<Vec<_>>();
         f.debug_struct("Tiles")
-            .field("vertices", &self.vertices)
+            .field("vertices", &self.vertices())
             .field("visited", &set(Tiles::visited))
             .field("known", &set(Tiles::known))
             .field("open", &(0..n).filter_map(|v| Some((v, self.open(v))).filter(|o| o.1 != 0)).collect::<Vec<_>>())
@@ -244,16 +251,18 @@ impl Tiles {
     pub fn new(vertices: usize) -> Self {
         let n = vertices.div_ceil(TILE);
         Tiles {
-            vertices,
+            vertices: u32::try_from(vertices).expect("a map of at most 2^32 vertices"),
             tiles: vec![empty(); n],
             masks: shared(n * TILE).unwrap_or_else(|| masks(n * TILE)),
             changed: Bitset::new(n),
-            lens: vec![tile_len(&Tile::EMPTY); n],
+            lens: vec![tile_len(&Tile::EMPTY); n].into_boxed_slice(),
+            total: (n * usize::from(tile_len(&Tile::EMPTY))) as u32,
         }
     }
 
+    #[inline]
     pub fn vertices(&self) -> usize {
-        self.vertices
+        self.vertices as usize
     }
 
     /// The tile of `v`, this map's own from now on (copied if shared).
@@ -282,7 +291,7 @@ impl Tiles {
         self.masks = Rc::clone(&source.masks);
         for i in source.changed.iter() {
             self.tiles[i].clone_from(&source.tiles[i]);
-            self.lens[i] = source.lens[i];
+            self.set_len(i, source.lens[i]);
         }
         self.changed.clone_from(&source.changed);
     }
@@ -334,6 +343,14 @@ impl Tiles {
         let after = crate::protocol::varint_len(t.0[w]) as u8;
         let len = &mut self.lens[v / TILE];
         *len = *len + after - before;
+        self.total = self.total + u32::from(after) - u32::from(before);
+    }
+
+    /// Tile `i`'s length is `len` now.
+    #[inline]
+    fn set_len(&mut self, i: usize, len: u8) {
+        self.total = self.total + u32::from(len) - u32::from(self.lens[i]);
+        self.lens[i] = len;
     }
 
     pub fn or_open(&mut self, v: usize, bits: u8) {
@@ -436,13 +453,14 @@ impl Tiles {
             // Equal tiles too: shared from now on, the next merge skips them.
             if !less {
                 *mine = Rc::clone(theirs);
-                self.lens[i] = other.lens[i];
+                self.set_len(i, other.lens[i]);
             } else if more {
                 let mine = Rc::make_mut(mine);
                 for (a, b) in mine.0.iter_mut().zip(&theirs.0) {
                     *a |= b;
                 }
-                self.lens[i] = tile_len(mine);
+                let len = tile_len(mine);
+                self.set_len(i, len);
             }
         }
     }
@@ -455,27 +473,18 @@ impl Tiles {
     /// The visited (or known) bitset's words, `vertices.div_ceil(64)` of them.
     pub fn words(&self, known: bool) -> impl Iterator<Item = u64> + '_ {
         let part = if known { KNOWN } else { VISITED };
-        self.tiles.iter().flat_map(move |t| t.0[part..part + BITS].iter().copied()).take(self.vertices.div_ceil(64))
+        self.tiles.iter().flat_map(move |t| t.0[part..part + BITS].iter().copied()).take(self.vertices().div_ceil(64))
     }
 
     /// The bytes postcard takes for [`Tiles::words`]' words, the visited
     /// ones and the known ones, one varint each (a map's length on the
     /// wire, without encoding it).
+    /// The tiles' lengths are kept summed: the last tile's words past
+    /// the map's end are zeros, a byte each, and are not sent.
+    #[inline]
     pub fn words_wire_len(&self) -> usize {
-        let words = self.vertices.div_ceil(64);
-        let (full, last) = (words / BITS, words % BITS);
-        let v = crate::protocol::varint_len;
-        let mut bytes = 0;
-        for &len in &self.lens[..full] {
-            bytes += usize::from(len);
-        }
-        if last > 0 {
-            let t = &self.tiles[full].0;
-            for k in 0..last {
-                bytes += v(t[VISITED + k]) + v(t[KNOWN + k]);
-            }
-        }
-        bytes
+        let past = self.tiles.len() * BITS - self.vertices().div_ceil(64);
+        self.total as usize - 2 * past
     }
 
     /// The edge masks, one byte per vertex, appended to `out`: 64 vertices
@@ -483,14 +492,14 @@ impl Tiles {
     /// all the table's bytes, or some of each (a robot process encodes its
     /// map this way every slot).
     pub fn open_bytes_into(&self, out: &mut Vec<u8>) {
-        out.reserve(self.vertices);
+        out.reserve(self.vertices());
         for (i, tile) in self.tiles.iter().enumerate() {
             for w in 0..BITS {
                 let first = i * TILE + w * 64;
-                if first >= self.vertices {
+                if first >= self.vertices() {
                     return;
                 }
-                let n = (self.vertices - first).min(64);
+                let n = (self.vertices() - first).min(64);
                 let masked = tile.0[MASKED + w];
                 let table = &self.masks[first..first + n];
                 if masked == 0 {
@@ -530,7 +539,7 @@ impl Tiles {
                 tile.0[MASKED + w] = t.take_masks(first, chunk);
             }
             if tile != Tile::EMPTY {
-                t.lens[k] = tile_len(&tile);
+                t.set_len(k, tile_len(&tile));
                 t.tiles[k] = Rc::new(tile);
             }
         }
@@ -558,7 +567,7 @@ impl Tiles {
         let Some(last) = self.tiles.last() else {
             return false;
         };
-        let first = self.vertices - (self.tiles.len() - 1) * TILE;
+        let first = self.vertices() - (self.tiles.len() - 1) * TILE;
         (first..TILE).any(|k| last.bit(VISITED, k) || last.bit(KNOWN, k) || last.bit(MASKED, k))
     }
 
