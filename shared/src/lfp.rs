@@ -199,7 +199,7 @@ impl<'w> LfpWorld<'w> {
     /// differ from the grid engines' `0.1 a` in the last bit).
     fn raster(&self) -> &Footprints {
         let w = self.world;
-        self.raster.get_or_init(|| Footprints::new(w, w.raster(w.params.a / 10.0), w.params.r_st))
+        self.raster.get_or_init(|| Footprints::new(w.raster(w.params.a / 10.0), w.params.r_st))
     }
 }
 

@@ -239,7 +239,7 @@ impl World {
     pub fn footprints(&self) -> &coverage::Footprints {
         self.footprints.get_or_init(|| {
             let raster = self.raster(crate::engine::RASTER_CELL * self.params.a);
-            Arc::new(coverage::Footprints::new(self, raster, self.params.r_st))
+            Arc::new(coverage::Footprints::new(raster, self.params.r_st))
         })
     }
 

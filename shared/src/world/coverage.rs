@@ -7,8 +7,9 @@
 //! Cheap enough for every run of a sweep. The raster's cells are bits in
 //! tiles of 8 x 8 (a word each), so a disc of radius `r_st` is a score of
 //! words. What a disc covers is worked out once per world and kept
-//! ([`Footprints`], shared by threads): for each vertex, the first time a
-//! run stands on it; for a point off the grid (LFP), by the class of its
+//! ([`Footprints`], shared by threads): for every vertex, one after another
+//! in one table, the first time a run stands on one; for a point off the
+//! grid (LFP), by the class of its
 //! place within a tile and a half of a cell, as the cells surely
 //! within `r_st` wherever in that half it lies, and the few cells at the
 //! rim that depend on where, tested one by one (256 shapes, about 100 KB:
@@ -39,11 +40,50 @@ const Q: i64 = 2;
 /// rounding of coordinates, far below a cell.
 const SLACK: f64 = 1e-9;
 
-/// What a point's class covers, a tile at a time: `(dt, dx, dy, sure,
-/// rim)` for the tile `dx, dy` tiles from its own (`dt` words on), the
-/// cells within `r` wherever in its class the point lies, and those within
-/// `r` for some places of the class only.
-type Shape = Box<[(i32, i16, i16, u64, u64)]>;
+/// What a point's class covers, a tile at a time: for the tile `dx, dy`
+/// tiles from its own (`dt` words on), the cells within `r` wherever in
+/// its class the point lies (`sure`), and those within `r` for some places
+/// of the class only (`rim`). Apart, so that the loop over a place's
+/// tiles reads the offsets and masks it needs and no more.
+#[derive(Debug)]
+struct Shape {
+    dt: Box<[i32]>,
+    masks: Box<[(u64, u64)]>,
+    dxy: Box<[(i16, i16)]>,
+    /// A row of tiles at a time, `(dt, tiles, entries)`: the row's tiles
+    /// from `dt` words on, `tiles` of them side by side, hold the entries
+    /// `entries` (in order of `dt`). A row none of whose tiles has a cell
+    /// left open is passed over with a word or two of [`Coverage`]'s
+    /// tiles left open, not a word a tile.
+    rows: Box<[(i32, u32, std::ops::Range<u32>)]>,
+}
+
+/// Whether any of the bits `from .. from + len` (`len > 0`) is set.
+#[inline]
+fn any_in(bits: &[u64], from: usize, len: usize) -> bool {
+    let last = from + len - 1;
+    let (mut w, end) = (from / 64, last / 64);
+    let mut mask = !0u64 << (from % 64);
+    loop {
+        if w == end {
+            return bits[w] & mask & (!0u64 >> (63 - last % 64)) != 0;
+        }
+        if bits[w] & mask != 0 {
+            return true;
+        }
+        w += 1;
+        mask = !0;
+    }
+}
+
+/// Every vertex's footprint, the tiles of its cells of `Ad` within `r`
+/// with their bits, one after another: vertex `v`'s are
+/// `tiles[at[v]..at[v + 1]]`.
+#[derive(Debug)]
+struct VertexPrints {
+    at: Vec<u32>,
+    tiles: Vec<(u32, u64)>,
+}
 
 /// What every run on one world shares to measure its coverage: the raster
 /// of `Ad` as bits, each vertex's footprint (the tiles of the cells of `Ad`
@@ -60,8 +100,11 @@ pub struct Footprints {
     pad: i64,
     /// Tile `t`'s cells of `Ad`: bit `8 (y % 8) + x % 8` of `inside[t]`.
     inside: Vec<u64>,
+    /// A bit a tile: whether it has a cell of `Ad`.
+    live: Vec<u64>,
     r: f64,
-    vertices: Vec<OnceLock<Box<[(u32, u64)]>>>,
+    /// Made on first use, all at once (LFP's runs never ask).
+    vertices: OnceLock<VertexPrints>,
     shapes: Vec<OnceLock<Shape>>,
 }
 
@@ -73,17 +116,20 @@ fn floor(u: f64) -> i64 {
 }
 
 impl Footprints {
-    /// Footprints on `raster` of the vertices of `world`'s grid, sensing range `r`.
-    pub fn new(world: &World, raster: Raster, r: f64) -> Self {
+    /// Footprints on `raster`, sensing range `r` (the vertices' those of
+    /// the world the runs pass to [`Coverage::on`]).
+    pub fn new(raster: Raster, r: f64) -> Self {
         let pad = Self::reach(r, raster.h);
         let tx = raster.nx.div_ceil(T as usize) as i64 + 2 * pad;
         let ty = raster.ny.div_ceil(T as usize) as i64 + 2 * pad;
-        let vertices = (0..world.grid.len()).map(|_| OnceLock::new()).collect();
         let shapes = (0..T * T * Q * Q).map(|_| OnceLock::new()).collect();
-        let mut f = Footprints { raster, tx, ty, pad, inside: vec![0; (tx * ty) as usize], r, vertices, shapes };
+        let inside = vec![0; (tx * ty) as usize];
+        let live = vec![0; (tx * ty) as usize / 64 + 1];
+        let mut f = Footprints { raster, tx, ty, pad, inside, live, r, vertices: OnceLock::new(), shapes };
         for k in (0..f.raster.inside.len()).filter(|&k| f.raster.inside[k]) {
             let (t, bit) = f.tile_bit((k % f.raster.nx) as i64, (k / f.raster.nx) as i64);
             f.inside[t] |= bit;
+            f.live[t / 64] |= 1 << (t % 64);
         }
         f
     }
@@ -123,25 +169,36 @@ impl Footprints {
         (0..nx).contains(&x) && (0..ny).contains(&y) && self.raster.inside[(y * nx + x) as usize]
     }
 
-    /// Vertex `v`'s footprint, made the first time it is asked for.
+    /// Vertex `v`'s footprint (every vertex's made the first time one is
+    /// asked for).
+    #[inline]
     fn of(&self, world: &World, v: VertexId) -> &[(u32, u64)] {
-        self.vertices[v as usize].get_or_init(|| {
+        let p = self.vertices.get_or_init(|| self.vertex_prints(world));
+        &p.tiles[p.at[v as usize] as usize..p.at[v as usize + 1] as usize]
+    }
+
+    fn vertex_prints(&self, world: &World) -> VertexPrints {
+        let mut at = Vec::with_capacity(world.grid.len() + 1);
+        let mut tiles: Vec<(u32, u64)> = Vec::new();
+        at.push(0);
+        for v in 0..world.grid.len() as VertexId {
             let c = world.grid.position(v);
             let (o, h, r) = (self.raster.origin, self.raster.h, self.r);
             let (x0, x1) = (floor((c.x - r - o.x) / h) - 1, floor((c.x + r - o.x) / h) + 1);
             let (y0, y1) = (floor((c.y - r - o.y) / h) - 1, floor((c.y + r - o.y) / h) + 1);
-            let mut tiles: Vec<(u32, u64)> = Vec::new();
+            let first = tiles.len();
             for y in y0..=y1 {
                 for x in (x0..=x1).filter(|&x| self.in_ad(x, y) && self.within(x, y, c)) {
                     let (t, bit) = self.tile_bit(x, y);
-                    match tiles.iter_mut().find(|e| e.0 == t as u32) {
+                    match tiles[first..].iter_mut().find(|e| e.0 == t as u32) {
                         Some(e) => e.1 |= bit,
                         None => tiles.push((t as u32, bit)),
                     }
                 }
             }
-            tiles.into_boxed_slice()
-        })
+            at.push(u32::try_from(tiles.len()).expect("footprints in range"));
+        }
+        VertexPrints { at, tiles }
     }
 
     /// The shape of the points in cell `(ci, cj)` of their tile whose place
@@ -183,25 +240,46 @@ impl Footprints {
             }
         }
         let side = 2 * w + 1;
-        (0..grid.len() as i64)
-            .filter(|&k| grid[k as usize] != (0, 0))
-            .map(|k| {
-                let (dx, dy) = (k % side - w, k / side - w);
-                (
-                    i32::try_from(dy * self.tx + dx).expect("a map of tiles in range"),
-                    dx as i16,
-                    dy as i16,
-                    grid[k as usize].0,
-                    grid[k as usize].1,
-                )
-            })
-            .collect()
+        let used: Vec<i64> = (0..grid.len() as i64).filter(|&k| grid[k as usize] != (0, 0)).collect();
+        let dxy = |k: i64| (k % side - w, k / side - w);
+        // `used` goes a row at a time, left to right.
+        let mut rows: Vec<(i32, u32, std::ops::Range<u32>)> = Vec::new();
+        for (e, &k) in used.iter().enumerate() {
+            let (dx, dy) = dxy(k);
+            let dt = i32::try_from(dy * self.tx + dx).expect("a map of tiles in range");
+            match rows.last_mut() {
+                Some(row) if e > 0 && dxy(used[e - 1]).1 == dy => {
+                    row.1 = (dt - row.0 + 1) as u32;
+                    row.2.end = e as u32 + 1;
+                }
+                _ => rows.push((dt, 1, e as u32..e as u32 + 1)),
+            }
+        }
+        Shape {
+            rows: rows.into_boxed_slice(),
+            dt: used
+                .iter()
+                .map(|&k| {
+                    let (dx, dy) = dxy(k);
+                    i32::try_from(dy * self.tx + dx).expect("a map of tiles in range")
+                })
+                .collect(),
+            masks: used.iter().map(|&k| grid[k as usize]).collect(),
+            dxy: used
+                .iter()
+                .map(|&k| {
+                    let (dx, dy) = dxy(k);
+                    (dx as i16, dy as i16)
+                })
+                .collect(),
+        }
     }
 
-    /// Marks in `hit` the cells of `Ad` within `r` of the point `c`,
-    /// returning how many were new: its class's sure cells a tile at a
-    /// time, then its rim cell by cell with the exact test.
-    fn mark_point(&self, hit: &mut [u64], c: Point) -> usize {
+    /// Clears in `open` (a run's cells of `Ad` not detected yet) the
+    /// cells within `r` of the point `c`, returning how many: its class's
+    /// sure cells a tile at a time, then its rim cell by cell with the
+    /// exact test.
+    fn mark_point(&self, open: &mut [u64], live: &mut [u64], c: Point) -> usize {
         let (o, h) = (self.raster.origin, self.raster.h);
         let (u, v) = ((c.x - o.x) / h, (c.y - o.y) / h);
         let (i, j) = (floor(u), floor(v));
@@ -211,40 +289,47 @@ impl Footprints {
         let class = (((cj * T + ci) * Q + qy) * Q + qx) as usize;
         let shape = self.shapes[class].get_or_init(|| self.shape(ci, cj, qx, qy));
         let (ti, tj) = (i.div_euclid(T), j.div_euclid(T));
-        let hit = &mut hit[..self.inside.len()];
+        let open = &mut open[..self.inside.len()];
         let mut new = 0;
         let inner = self.tx - 2 * self.pad;
         if (0..inner).contains(&ti) && (0..self.ty - 2 * self.pad).contains(&tj) {
             // The point is over the raster: its disc lies on tiles.
             let base = (tj + self.pad) * self.tx + ti + self.pad;
-            for &(dt, _, _, sure, rim) in shape.iter() {
-                let t = (base + dt as i64) as usize;
-                let open = self.inside[t] & !hit[t];
-                // Most places add nothing: the rest out of this loop's way.
-                if (sure | rim) & open != 0 {
-                    new += self.add(&mut hit[t], t, sure & open, rim & open, c);
+            for (dt, tiles, entries) in shape.rows.iter() {
+                // Late in a run most rows are done with.
+                if !any_in(live, (base + *dt as i64) as usize, *tiles as usize) {
+                    continue;
+                }
+                let entries = entries.start as usize..entries.end as usize;
+                for (&dt, &(sure, rim)) in shape.dt[entries.clone()].iter().zip(&shape.masks[entries]) {
+                    let t = (base + dt as i64) as usize;
+                    let o = open[t];
+                    // Most places add nothing: the rest out of this loop's way.
+                    if (sure | rim) & o != 0 {
+                        new += self.add(open, live, t, sure & o, rim & o, c);
+                    }
                 }
             }
             return new;
         }
-        for &(_, dx, dy, sure, rim) in shape.iter() {
+        for (&(dx, dy), &(sure, rim)) in shape.dxy.iter().zip(shape.masks.iter()) {
             let (a, b) = (ti + self.pad + dx as i64, tj + self.pad + dy as i64);
             if a < 0 || b < 0 || a >= self.tx || b >= self.ty {
                 continue;
             }
             let t = (b * self.tx + a) as usize;
-            let open = self.inside[t] & !hit[t];
-            if (sure | rim) & open != 0 {
-                new += self.add(&mut hit[t], t, sure & open, rim & open, c);
+            let o = open[t];
+            if (sure | rim) & o != 0 {
+                new += self.add(open, live, t, sure & o, rim & o, c);
             }
         }
         new
     }
 
-    /// Marks in tile `t` the cells `sure` and those of `rim` within `r` of
-    /// `c`, none marked before; returns how many.
+    /// Clears in tile `t` the cells `sure` and those of `rim` within `r`
+    /// of `c`, all open; returns how many.
     #[inline(never)]
-    fn add(&self, hit: &mut u64, t: usize, sure: u64, rim: u64, c: Point) -> usize {
+    fn add(&self, open: &mut [u64], live: &mut [u64], t: usize, sure: u64, rim: u64, c: Point) -> usize {
         let (x, y) = ((t as i64 % self.tx - self.pad) * T, (t as i64 / self.tx - self.pad) * T);
         let mut fresh = sure;
         let mut left = rim;
@@ -255,8 +340,18 @@ impl Footprints {
                 fresh |= 1 << bit;
             }
         }
-        *hit |= fresh;
+        clear(open, live, t, fresh);
         fresh.count_ones() as usize
+    }
+}
+
+/// Clears the cells `fresh` of tile `t` in `open`, and the tile's bit in
+/// `live` once it has none left.
+#[inline]
+fn clear(open: &mut [u64], live: &mut [u64], t: usize, fresh: u64) {
+    open[t] &= !fresh;
+    if open[t] == 0 {
+        live[t / 64] &= !(1 << (t % 64));
     }
 }
 
@@ -266,7 +361,10 @@ impl Footprints {
 pub struct Coverage<'w> {
     world: &'w World,
     prints: &'w Footprints,
-    hit: Vec<u64>,
+    /// The cells of `Ad` not detected yet, as [`Footprints::inside`], and
+    /// a bit a tile: whether it has any.
+    open: Vec<u64>,
+    live: Vec<u64>,
     /// Vertices already marked (each marks the same cells every time).
     stood: Bitset,
     detected: usize,
@@ -284,7 +382,8 @@ impl<'w> Coverage<'w> {
         Coverage {
             world,
             prints,
-            hit: vec![0; prints.inside.len()],
+            open: prints.inside.clone(),
+            live: prints.live.clone(),
             stood: Bitset::new(world.grid.len()),
             detected: 0,
             reached: Vec::new(),
@@ -303,17 +402,17 @@ impl<'w> Coverage<'w> {
     fn mark(&mut self, v: VertexId) {
         self.stood.set(v as usize);
         for &(t, bits) in self.prints.of(self.world, v) {
-            let fresh = bits & !self.hit[t as usize];
+            let fresh = bits & self.open[t as usize];
             if fresh != 0 {
                 self.detected += fresh.count_ones() as usize;
-                self.hit[t as usize] |= fresh;
+                clear(&mut self.open, &mut self.live, t as usize, fresh);
             }
         }
     }
 
     /// A robot stands at `p`, off the grid.
     pub fn pass(&mut self, p: Point) {
-        self.detected += self.prints.mark_point(&mut self.hit, p);
+        self.detected += self.prints.mark_point(&mut self.open, &mut self.live, p);
     }
 
     /// Everything marked so far was detected by simulated time `t`
@@ -386,6 +485,19 @@ mod tests {
                 assert_eq!(cov.detected, expected, "{name}, point {k} at {p:?}");
             }
             assert_eq!(cov.fraction(), expected as f64 / raster.samples() as f64);
+        }
+    }
+
+    #[test]
+    fn any_in_reads_exactly_its_range() {
+        for bit in [0usize, 5, 63, 64, 100, 127, 128, 191] {
+            let mut bits = [0u64; 3];
+            bits[bit / 64] |= 1 << (bit % 64);
+            for from in 0..180 {
+                for len in 1..(192 - from).min(70) {
+                    assert_eq!(any_in(&bits, from, len), (from..from + len).contains(&bit), "{bit} in {from} + {len}");
+                }
+            }
         }
     }
 
