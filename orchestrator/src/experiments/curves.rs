@@ -29,7 +29,7 @@ pub struct Curve {
 }
 
 /// The curve of each cell, `cells[k]` with its runs `runs[k]` (in run order).
-pub fn curves(cells: &[(Policy, usize)], runs: &[Vec<RunRecord>]) -> Vec<Curve> {
+pub fn curves(cells: &[(Policy, usize)], runs: &[&[RunRecord]]) -> Vec<Curve> {
     cells
         .iter()
         .zip(runs)
@@ -50,7 +50,7 @@ pub fn curves(cells: &[(Policy, usize)], runs: &[Vec<RunRecord>]) -> Vec<Curve> 
 
 /// The times of robot count `robots`: [`POINTS`] from 0 to the largest
 /// 90th percentile of its cells' completed search times.
-fn axis(robots: usize, cells: &[(Policy, usize)], runs: &[Vec<RunRecord>]) -> Vec<f64> {
+fn axis(robots: usize, cells: &[(Policy, usize)], runs: &[&[RunRecord]]) -> Vec<f64> {
     let end = cells
         .iter()
         .zip(runs)
@@ -104,7 +104,7 @@ mod tests {
         // and 1% at 0 s, ended at 20 s with 1.5%.
         let a = run(10.0, &[0.0, 5.0], 0.025);
         let b = run(20.0, &[0.0], 0.015);
-        let c = curves(&[(Policy::Ru, 2)], &[vec![a, b]]);
+        let c = curves(&[(Policy::Ru, 2)], &[&[a, b][..]]);
         assert_eq!((c[0].runs, c[0].points.len()), (2, POINTS));
         let at = |t: f64| c[0].points.iter().find(|p| (p.0 - t).abs() < 1e-9).map(|p| p.1.mean.unwrap());
         // The 90th percentile of 10 and 20 is 20: a point every 1/3 s.

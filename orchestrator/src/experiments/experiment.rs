@@ -6,6 +6,7 @@
 //! K random maps ([`maps`]) and pools their runs; every file says which map
 //! a number comes from.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
@@ -282,12 +283,13 @@ impl Part {
             .map(|m| plan.cells().zip(m.chunks(plan.runs)).map(|((p, r), c)| CellStats::of(p, r, c)).collect())
             .collect();
         let pooled = plan.pooled_runs(&records);
-        let cells: Vec<CellStats> = plan.cells().zip(&pooled).map(|((p, r), runs)| CellStats::of(p, r, runs)).collect();
-        let curves = curves::curves(&plan.cells().collect::<Vec<_>>(), &pooled);
+        let per_cell: Vec<&[RunRecord]> = pooled.iter().map(|c| &c[..]).collect();
+        let cells: Vec<CellStats> =
+            plan.cells().zip(&per_cell).map(|((p, r), runs)| CellStats::of(p, r, runs)).collect();
+        let curves = curves::curves(&plan.cells().collect::<Vec<_>>(), &per_cell);
         let robot_rounds =
             plan.jobs().iter().zip(&records).map(|(j, x)| x.rounds as u64 * opts.robots[j.2] as u64).sum();
         // Paired run by run: run k of every algorithm shares its seed and map.
-        let per_cell: Vec<&[RunRecord]> = pooled.iter().map(Vec::as_slice).collect();
         let claims = claims::evaluate(&cells, &per_cell);
         let (oracle, oracle_runs) = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
         let bound = crate::refs::bounds(&worlds, &starts, &opts.robots, plan.runs, algorithms, scenario.situation);
@@ -606,7 +608,7 @@ pub fn record(
         collisions: res.collisions,
         targets_found: res.targets_found,
         complete: res.complete,
-        measured: Measured::of(&res),
+        measured: Measured::of(res),
     }
 }
 
@@ -640,12 +642,16 @@ impl Plan<'_> {
     }
 
     /// Each cell's runs over every map, in map order, then run order (so
-    /// run `i` of every cell has the same map and seed).
-    fn pooled_runs(&self, records: &[RunRecord]) -> Vec<Vec<RunRecord>> {
+    /// run `i` of every cell has the same map and seed): on one map, the
+    /// records themselves (each run's coverage curve is not copied).
+    fn pooled_runs<'r>(&self, records: &'r [RunRecord]) -> Vec<Cow<'r, [RunRecord]>> {
         let cell_len = self.runs;
         self.cells()
             .enumerate()
             .map(|(c, _)| {
+                if self.maps == 1 {
+                    return Cow::Borrowed(&records[c * cell_len..(c + 1) * cell_len]);
+                }
                 records
                     .chunks(self.per_map())
                     .flat_map(|m| m[c * cell_len..(c + 1) * cell_len].iter().cloned())

@@ -39,14 +39,17 @@ pub struct Measured {
 }
 
 impl Measured {
-    pub fn of(r: &RunResult) -> Self {
-        let m = &r.metrics;
+    /// The run's metrics, its curve and targets' times moved, not copied.
+    pub fn of(r: RunResult) -> Self {
+        let mut m = r.metrics;
+        // Every run's curve is kept to the end of the sweep: no spare room.
+        m.coverage_s.shrink_to_fit();
         let per_robot = |sum: f64| sum / r.robots.max(1) as f64;
         let radio = |xs: &[u64]| (!xs.is_empty()).then(|| per_robot(xs.iter().sum::<u64>() as f64));
         Measured {
             coverage: r.coverage,
-            coverage_s: m.coverage_s.clone(),
-            targets_s: m.targets_s.clone(),
+            coverage_s: m.coverage_s,
+            targets_s: m.targets_s,
             distance_m: per_robot(m.distance_m.iter().sum()),
             rotations: per_robot(m.rotations.iter().map(|&t| f64::from(t)).sum()),
             frames: radio(&m.frames),
