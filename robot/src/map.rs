@@ -171,21 +171,28 @@ impl Map {
         use crate::protocol::varint_len as v;
         let vertices = self.cells.vertices();
         let n = vertices.div_ceil(64);
+        // Without failures or bodies (most maps sent), four empty lists.
+        let lists =
+            if self.failed.is_empty() && self.alive.is_empty() && self.bodies.is_empty() && self.freed.is_empty() {
+                4
+            } else {
+                self.lists_wire_len()
+            };
+        2 * v(n as u64) + self.cells.words_wire_len() + v(vertices as u64) + vertices + self.targets.wire_len() + lists
+    }
+
+    /// The bytes of the failures', rejoins', bodies' and freed vertices'
+    /// lists, out of [`Map::wire_len`]'s way.
+    #[inline(never)]
+    fn lists_wire_len(&self) -> usize {
+        use crate::protocol::varint_len as v;
         let pairs =
             |l: &[(u32, u32)]| v(l.len() as u64) + l.iter().map(|&(a, b)| v(a.into()) + v(b.into())).sum::<usize>();
         let alive =
             v(self.alive.len() as u64) + self.alive.iter().map(|&(a, b)| v(a.into()) + v(b.into())).sum::<usize>();
         let failed = v(self.failed.len() as u64)
             + self.failed.iter().map(|f| v(f.robot.into()) + v(f.at.into()) + v(f.round.into()) + 1).sum::<usize>();
-        2 * v(n as u64)
-            + self.cells.words_wire_len()
-            + v(vertices as u64)
-            + vertices
-            + self.targets.wire_len()
-            + failed
-            + alive
-            + pairs(&self.bodies)
-            + pairs(&self.freed)
+        failed + alive + pairs(&self.bodies) + pairs(&self.freed)
     }
 
     pub fn new(vertices: usize) -> Self {
