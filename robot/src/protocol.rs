@@ -463,6 +463,15 @@ mod tests {
         sent = a.send_copy(2, Some((sent, 1)));
         check(&sent, "copy into the last copy");
         assert_eq!(postcard::to_allocvec(&sent).unwrap(), postcard::to_allocvec(&a).unwrap());
+        // A change in another tile only: the copy's tiles changed before
+        // are not marked any more, and their lengths must be right.
+        a.set_visited(600, true);
+        sent = a.send_copy(3, Some((sent, 2)));
+        check(&sent, "a third copy, into the second, after a change elsewhere");
+        a.set_known(1000, true);
+        sent = a.send_copy(4, Some((sent, 3)));
+        check(&sent, "a fourth copy");
+        check(&a, "a after its copies");
         let mut c = Map::new(1100);
         c.set_visited(700, true);
         check(&c, "c");
