@@ -168,15 +168,13 @@ pub struct Tiles {
     /// receiver that merged that one merges only these
     /// ([`Tiles::merge_changes`]).
     changed: Bitset,
-    /// Per tile, its visited and known words' bytes on the wire, right
-    /// for every tile not marked `changed` and brought up to date when
-    /// the marks are forgotten: every map a robot sends is counted
+    /// Per tile, its visited and known words' bytes on the wire, kept as
+    /// the tile changes: every map a robot sends is counted
     /// ([`Tiles::words_wire_len`]), and summing every word of every tile
-    /// each time (tiles all over memory) cost more than the tiles changed
-    /// since the last copy sent; keeping them at every bit set cost more
-    /// still (a robot sets a dozen bits a slot).
+    /// each time (tiles all over memory) cost more than the few words a
+    /// change touches.
     lens: Box<[u8]>,
-    /// The sum of `lens`.
+    /// The sum of `lens`: a send reads this, not every tile's length.
     total: u32,
 }
 
@@ -273,15 +271,8 @@ impl Tiles {
         (Rc::make_mut(&mut self.tiles[v / TILE]), v % TILE)
     }
 
-    /// From now on, [`Tiles::changes`] counts from here (the changed
-    /// tiles' lengths brought up to date first).
+    /// From now on, [`Tiles::changes`] counts from here.
     pub fn forget_changes(&mut self) {
-        let Tiles { tiles, changed, lens, total, .. } = self;
-        for i in changed.iter() {
-            let len = tile_len(&tiles[i]);
-            *total = *total + u32::from(len) - u32::from(lens[i]);
-            lens[i] = len;
-        }
         self.changed.clear_all();
     }
 
@@ -300,11 +291,8 @@ impl Tiles {
         self.masks = Rc::clone(&source.masks);
         for i in source.changed.iter() {
             self.tiles[i].clone_from(&source.tiles[i]);
+            self.set_len(i, source.lens[i]);
         }
-        // Equal tiles now, and the same ones marked: the same lengths (this
-        // copy's own, for the tiles it had marked, may be out of date).
-        self.lens.copy_from_slice(&source.lens);
-        self.total = source.total;
         self.changed.clone_from(&source.changed);
     }
 
@@ -336,16 +324,26 @@ impl Tiles {
 
     pub fn set_visited(&mut self, v: usize, on: bool) {
         if self.visited(v) != on {
-            let (t, k) = self.at_mut(v);
-            t.set_bit(VISITED, k, on);
+            self.set_bit(VISITED, v, on);
         }
     }
 
     pub fn set_known(&mut self, v: usize, on: bool) {
         if self.known(v) != on {
-            let (t, k) = self.at_mut(v);
-            t.set_bit(KNOWN, k, on);
+            self.set_bit(KNOWN, v, on);
         }
+    }
+
+    /// Sets `v`'s bit of `part` (visited or known), and the tile's length.
+    fn set_bit(&mut self, part: usize, v: usize, on: bool) {
+        let (t, k) = self.at_mut(v);
+        let w = part + k / 64;
+        let before = crate::protocol::varint_len(t.0[w]) as u8;
+        t.set_bit(part, k, on);
+        let after = crate::protocol::varint_len(t.0[w]) as u8;
+        let len = &mut self.lens[v / TILE];
+        *len = *len + after - before;
+        self.total = self.total + u32::from(after) - u32::from(before);
     }
 
     /// Tile `i`'s length is `len` now.
@@ -453,13 +451,16 @@ impl Tiles {
             }
             let (mine, theirs) = (&mut self.tiles[i], &other.tiles[i]);
             // Equal tiles too: shared from now on, the next merge skips them.
-            // (A tile that grew is marked changed: its length waits.)
             if !less {
                 *mine = Rc::clone(theirs);
+                self.set_len(i, other.lens[i]);
             } else if more {
-                for (a, b) in Rc::make_mut(mine).0.iter_mut().zip(&theirs.0) {
+                let mine = Rc::make_mut(mine);
+                for (a, b) in mine.0.iter_mut().zip(&theirs.0) {
                     *a |= b;
                 }
+                let len = tile_len(mine);
+                self.set_len(i, len);
             }
         }
     }
@@ -478,17 +479,12 @@ impl Tiles {
     /// The bytes postcard takes for [`Tiles::words`]' words, the visited
     /// ones and the known ones, one varint each (a map's length on the
     /// wire, without encoding it).
-    /// The tiles' lengths are kept summed, but for the tiles changed
-    /// since the marks were last forgotten (for a copy sent, those since
-    /// the copy before): those are summed here. The last tile's words past
+    /// The tiles' lengths are kept summed: the last tile's words past
     /// the map's end are zeros, a byte each, and are not sent.
+    #[inline]
     pub fn words_wire_len(&self) -> usize {
         let past = self.tiles.len() * BITS - self.vertices().div_ceil(64);
-        let mut total = self.total as usize;
-        for i in self.changed.iter() {
-            total = total + usize::from(tile_len(&self.tiles[i])) - usize::from(self.lens[i]);
-        }
-        total - 2 * past
+        self.total as usize - 2 * past
     }
 
     /// The edge masks, one byte per vertex, appended to `out`: 64 vertices
