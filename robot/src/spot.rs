@@ -81,16 +81,23 @@ impl Spots {
         self.0.binary_search(&s).is_ok()
     }
 
-    /// Adds `s`; whether it was new.
+    /// Adds `s`; whether it was new. The search inline, as it was before
+    /// the set kept its length (merges mostly find what they bring).
+    #[inline]
     pub fn insert(&mut self, s: Spot) -> bool {
         match self.0.binary_search(&s) {
             Ok(_) => false,
             Err(k) => {
-                self.0.insert(k, s);
-                self.1 .0 += coords_len(s);
+                self.insert_at(k, s);
                 true
             }
         }
+    }
+
+    #[inline(never)]
+    fn insert_at(&mut self, k: usize, s: Spot) {
+        self.0.insert(k, s);
+        self.1 .0 += coords_len(s);
     }
 
     /// `self ∪= other`. Most merges bring nothing new (targets are few and
