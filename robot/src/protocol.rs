@@ -225,24 +225,28 @@ impl Frame {
     pub fn wire_len(&self) -> usize {
         let v = |x: u64| varint_len(x);
         let ids = |l: &[RobotId]| v(l.len() as u64) + l.iter().map(|&r| v(r.into())).sum::<usize>();
-        let (round, from) = (v(self.round().into()), v(self.from().into()));
-        // Only acks and floods tag their header with more than a bit.
-        let tag = match self {
-            Frame::Ack { .. } | Frame::Flood { .. } => v(self.header().tag),
-            _ => 1,
-        };
-        // The header (kind, round, tag), then the variant's index (below 128: a byte).
-        let head = 1 + round + tag + 1;
-        head + round
-            + from
-            + match self {
-                Frame::Map { at, sent, map, .. } => v((*at).into()) + v(*sent) + 2 + map.wire_len(),
-                Frame::Choice { at, next, accounted, .. } => v((*at).into()) + v((*next).into()) + ids(accounted),
-                Frame::Ack { acked, refused, .. } => ids(acked) + ids(refused),
-                Frame::Commit { .. } => 1,
-                Frame::Flood { targets, .. } => crate::spot::wire_len(targets) + 1,
-                Frame::Wait { .. } => 0,
+        // The header (kind, round, tag), then the variant's index (below
+        // 128: a byte), the round and the sender, then the variant's
+        // fields: one match, the tag's with them (only acks and floods tag
+        // their header with more than a bit).
+        let (round, from, rest) = match self {
+            Frame::Map { round, from, at, sent, map, .. } => {
+                (round, from, 1 + v((*at).into()) + v(*sent) + 2 + map.wire_len())
             }
+            Frame::Choice { round, from, at, next, accounted } => {
+                (round, from, 1 + v((*at).into()) + v((*next).into()) + ids(accounted))
+            }
+            Frame::Ack { round, from, acked, refused } => {
+                (round, from, v(self.header().tag) + ids(acked) + ids(refused))
+            }
+            Frame::Commit { round, from, .. } => (round, from, 1 + 1),
+            Frame::Flood { round, from, targets, stop } => {
+                (round, from, v(if *stop { FLOOD_STOP } else { 0 }) + crate::spot::wire_len(targets) + 1)
+            }
+            Frame::Wait { round, from } => (round, from, 1),
+        };
+        let round = v((*round).into());
+        1 + round + 1 + round + v((*from).into()) + rest
     }
 }
 
