@@ -7,7 +7,8 @@
 //! thousands of rounds; frames later than the exchange window read as dead
 //! neighbours; two late robots, each alone by its own window, stepping
 //! onto one vertex; two robots meeting on a jittering radio, each alone
-//! by its window. Each prints the command that replays it.
+//! by its window; a body left where a thawed robot stood, walling off a
+//! vertex for good. Each prints the command that replays it.
 
 use gridswarm::engine;
 use gridswarm::outcome::RunConfig;
@@ -251,4 +252,28 @@ fn a_rule_that_passes_unvisited_vertices_is_not_pulled_back_by_the_survivor_step
          --kill 2@19+0.065985",
         &["stop", "cut_off"],
     );
+}
+
+#[test]
+fn a_body_no_robot_can_be_does_not_cut_off_the_search() {
+    // Found by the liveness example: robot 2 froze in round 27, a sonar
+    // found it silent there (a body), and it thawed and walked away where
+    // no sonar came back to find the vertex free. Every robot of the team
+    // was heard alive elsewhere since, so the body could be nobody, but it
+    // walled off an unvisited vertex for good: every robot halted cut off
+    // and the search ended `cut_off`, incomplete. Bodies nobody can be
+    // (`Robot::phantom`, from the sightings and the team's roster) no
+    // longer block.
+    let policy: Policy = "frontier-sensed".parse().unwrap();
+    let faults = vec![
+        Fault { robot: 1, round: 9, offset: 485_712, kind: FaultKind::Freeze },
+        Fault { robot: 1, round: 11, offset: 261_886, kind: FaultKind::Thaw },
+        Fault { robot: 2, round: 27, offset: 1_043_883, kind: FaultKind::Freeze },
+        Fault { robot: 2, round: 32, offset: 451_989, kind: FaultKind::Thaw },
+    ];
+    let mut cfg = config(policy, 17195880724115803871, Situation::Two, faults);
+    cfg.max_rounds = 2000;
+    let replay = "--algorithm frontier-sensed --seed 17195880724115803871 --situation 2 --max-rounds 2000 \
+                  --freeze 1@9+0.485712:11+0.261886 --freeze 2@27+1.043883:32+0.451989";
+    completes(8, cfg, replay);
 }
