@@ -686,7 +686,7 @@ impl<'g> Robot<'g> {
     /// Step 5 proper: the policy's rule picks among `cands`; anything but
     /// a candidate is staying.
     fn pick(&mut self, cands: &[VertexId]) -> Option<VertexId> {
-        if !self.rule.passes_unvisited() {
+        if !self.rule.passes_unvisited() || self.stuck_behind_unseen() {
             if let Some(step) = self.survivor_step(cands) {
                 return Some(step);
             }
@@ -742,6 +742,19 @@ impl<'g> Robot<'g> {
         }
         self.blocked_now = blocked;
         step.filter(|s| cands.contains(s))
+    }
+
+    /// Whether, failures known, nothing unvisited is reachable for the rule
+    /// (every failure and halted neighbour in the way), though the cut-off
+    /// test, which counts only failures whose body was seen, finds the
+    /// robot not cut off: a rule that passes unvisited vertices, left to
+    /// itself, would walk visited ones for ever instead of going to look.
+    fn stuck_behind_unseen(&mut self) -> bool {
+        if !self.faults_known() || self.map.failures_now().all(|f| f.seen) {
+            return false;
+        }
+        self.collect_blocked(true, true);
+        self.paths.step_to_unvisited(self.grid, &self.map, self.pos, &self.blocked_now).is_none()
     }
 
     /// Step 6 done: the world moved this robot to `to`.

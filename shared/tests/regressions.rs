@@ -277,3 +277,23 @@ fn a_body_no_robot_can_be_does_not_cut_off_the_search() {
                   --freeze 1@9+0.485712:11+0.261886 --freeze 2@27+1.043883:32+0.451989";
     completes(8, cfg, replay);
 }
+
+#[test]
+fn a_rule_that_passes_unvisited_vertices_goes_to_look_at_an_unseen_failure() {
+    // Found by the liveness example: robot 10 crashed in round 3 in the
+    // passage out of the start, walling eleven robots in (they saw the
+    // body and halted cut off); robot 7, already out, declared it but
+    // never saw it. For robot 7 the failure, unseen, cut nothing off, yet
+    // it blocked every way back for `frontier-sensed-coord`, which then
+    // walked visited vertices until the round limit (2,000 rounds; 113
+    // fault-free). The survivor step, which `frontier-sensed` rules skip
+    // so as not to pull them back from a frontier, now takes them towards
+    // the body when nothing unvisited is reachable for them otherwise.
+    let policy: Policy = "frontier-sensed-coord".parse().unwrap();
+    let faults = vec![Fault { robot: 10, round: 3, offset: 993_300, kind: FaultKind::Crash }];
+    let mut cfg = config(policy, 9130671652413155497, Situation::Two, faults);
+    cfg.max_rounds = 2000;
+    let replay = "--algorithm frontier-sensed-coord --seed 9130671652413155497 --situation 2 --max-rounds 2000 \
+                  --kill 10@3+0.9933";
+    ends(13, cfg, replay, &["stop", "cut_off"]);
+}
