@@ -29,6 +29,7 @@ fn setup_file(name: &str, text: Option<&str>) -> SetupFile {
             let args = SetupArgs {
                 key: "k".into(),
                 robot: 0,
+                robots: None,
                 scenario: "paper".into(),
                 algorithm: Policy::Repulsive,
                 seed: 1,

@@ -12,8 +12,10 @@ use crate::bitset::Bitset;
 use crate::grid::{Grid, VertexId};
 use crate::spot::Spots;
 
+pub mod sightings;
 pub mod tiles;
 
+use sightings::Sightings;
 use tiles::Tiles;
 
 pub type RobotId = u16;
@@ -62,6 +64,8 @@ pub struct Map {
     /// For vertices once holding a body: the latest round a sonar found
     /// the vertex free. A body counts only while found later than this.
     pub freed: Vec<(VertexId, u32)>,
+    /// Where robots were last heard, written once failures are known.
+    pub sightings: Sightings,
     /// The round of a map this map's robot sent, from which this map
     /// differs only in the tiles marked changed: for a robot's own map its
     /// last copy sent, for that copy the copy before ([`Map::send_copy`],
@@ -79,6 +83,7 @@ impl PartialEq for Map {
             && self.alive == other.alive
             && self.bodies == other.bodies
             && self.freed == other.freed
+            && self.sightings == other.sightings
     }
 }
 
@@ -89,7 +94,7 @@ impl Eq for Map {}
 /// without one call per vertex).
 #[derive(Serialize, Deserialize)]
 #[serde(rename = "Map")]
-struct Flat<'a, T, F, A, B> {
+struct Flat<'a, T, F, A, B, S> {
     visited: Bitset,
     known: Bitset,
     /// Borrowed from the frame when the format allows (postcard does): a
@@ -101,6 +106,7 @@ struct Flat<'a, T, F, A, B> {
     alive: A,
     bodies: B,
     freed: B,
+    sightings: S,
 }
 
 impl Clone for Map {
@@ -112,6 +118,7 @@ impl Clone for Map {
             alive: self.alive.clone(),
             bodies: self.bodies.clone(),
             freed: self.freed.clone(),
+            sightings: self.sightings.clone(),
             base: self.base,
         }
     }
@@ -139,6 +146,7 @@ impl Serialize for Map {
             alive: &self.alive,
             bodies: &self.bodies,
             freed: &self.freed,
+            sightings: &self.sightings,
         }
         .serialize(s)
     }
@@ -146,7 +154,7 @@ impl Serialize for Map {
 
 impl<'de> Deserialize<'de> for Map {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let f = Flat::<Spots, Vec<Failure>, Vec<(RobotId, u32)>, Vec<(VertexId, u32)>>::deserialize(d)?;
+        let f = Flat::<Spots, Vec<Failure>, Vec<(RobotId, u32)>, Vec<(VertexId, u32)>, Sightings>::deserialize(d)?;
         let cells = Tiles::from_flat(f.visited.words(), f.known.words(), &f.open).ok_or_else(|| {
             serde::de::Error::custom("map bitsets sized for another grid than its edge masks, or set past the end")
         })?;
@@ -157,6 +165,7 @@ impl<'de> Deserialize<'de> for Map {
             alive: f.alive,
             bodies: f.bodies,
             freed: f.freed,
+            sightings: f.sightings,
             base: None,
         })
     }
@@ -203,6 +212,7 @@ impl Map {
             alive: Vec::new(),
             bodies: Vec::new(),
             freed: Vec::new(),
+            sightings: Sightings::default(),
             base: None,
         }
     }
@@ -275,6 +285,7 @@ impl Map {
         self.alive.clone_from(&source.alive);
         self.bodies.clone_from(&source.bodies);
         self.freed.clone_from(&source.freed);
+        self.sightings.clone_from_sightings(&source.sightings);
         self.base = source.base;
     }
 
@@ -319,6 +330,7 @@ impl Map {
         for &(v, round) in &other.freed {
             latest(&mut self.freed, v, round);
         }
+        self.sightings.merge(&other.sightings);
     }
 
     /// A sonar found a silent robot on `v` in `round`.
@@ -332,6 +344,11 @@ impl Map {
         if self.bodies.binary_search_by_key(&v, |b| b.0).is_ok() {
             latest(&mut self.freed, v, round);
         }
+    }
+
+    /// The silent bodies that count now, with the round each was found in.
+    pub fn bodies_found_now(&self) -> impl Iterator<Item = (VertexId, u32)> + '_ {
+        self.bodies.iter().filter(|b| round_of(&self.freed, b.0).is_none_or(|r| r < b.1)).copied()
     }
 
     /// Vertices holding a silent body now.
@@ -459,7 +476,7 @@ impl Map {
         {
             return Err("map names a robot or vertex that does not exist".into());
         }
-        Ok(())
+        self.sightings.validate(vertices, robots)
     }
 }
 
@@ -539,6 +556,7 @@ mod tests {
         alive: &'a Vec<(RobotId, u32)>,
         bodies: &'a Vec<(VertexId, u32)>,
         freed: &'a Vec<(VertexId, u32)>,
+        sightings: &'a Sightings,
     }
 
     #[test]
@@ -565,6 +583,7 @@ mod tests {
             alive: &m.alive,
             bodies: &m.bodies,
             freed: &m.freed,
+            sightings: &m.sightings,
         };
         let bytes = postcard::to_allocvec(&m).unwrap();
         assert_eq!(bytes, postcard::to_allocvec(&plain).unwrap());

@@ -23,6 +23,7 @@ use crate::choice::{self, ChoiceRule, NeighbourView, View};
 use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::MAX_DEGREE;
+use crate::map::sightings::Sighting;
 use crate::map::{Map, RobotId, SENSED};
 use crate::params::{Order, Situation};
 use crate::policy::Policy;
@@ -44,6 +45,9 @@ pub struct RobotConfig {
     pub choices_update_maps: bool,
     /// Step 4's order ([`Order`]): the paper's, or a local one.
     pub order: Order,
+    /// Robots in the team, this one included (0: not known). A robot
+    /// knows its team's roster before the start, as it knows its own id.
+    pub team: usize,
 }
 
 impl RobotConfig {
@@ -65,6 +69,7 @@ impl RobotConfig {
             seed,
             choices_update_maps: true,
             order: Order::Paper,
+            team: 0,
         }
     }
 }
@@ -295,6 +300,9 @@ impl<'g> Robot<'g> {
             self.map.free_body(self.pos, round);
             self.look_around(s.occupied);
         }
+        if self.faults_known() {
+            self.map.sightings.add(Sighting { robot: self.cfg.id, at: self.pos, round });
+        }
     }
 
     /// What the sonar says of robots thought to stand still nearby. Nobody
@@ -391,6 +399,11 @@ impl<'g> Robot<'g> {
         // Likewise found as a silent body where it stands.
         self.map.free_body(self.pos, self.round);
         self.refresh_failed();
+        if map.sightings.of(from).is_none() && self.faults_known() {
+            // It has heard of no failure, so it does not say where it is:
+            // those that have, and hear it, do.
+            self.map.sightings.add(Sighting { robot: from, at, round: self.round });
+        }
         true
     }
 
@@ -453,6 +466,22 @@ impl<'g> Robot<'g> {
         None
     }
 
+    /// Whether the silent body found on `v` in round `found` can be no
+    /// robot of the team: every other one was seen since, elsewhere, or
+    /// failed elsewhere with its body seen. The robot that stood there
+    /// silent (frozen, or unheard) has moved on, and no sonar has come by
+    /// to find the vertex free; kept, it would cut off what lies behind it
+    /// for good. If a robot does stand there, the next sonar to pass finds
+    /// it again, later. Only with the team's roster known.
+    fn phantom(&self, v: VertexId, found: u32) -> bool {
+        let (team, me) = (self.cfg.team, self.cfg.id);
+        team > 0
+            && (0..team as RobotId).filter(|&r| r != me).all(|r| match self.map.failure(r) {
+                Some(f) => f.seen && f.at != v,
+                None => self.map.sightings.of(r).is_some_and(|s| s.round > found && s.at != v),
+            })
+    }
+
     /// Sec. 4.2: robot `id`, standing on `at`, will never answer (declared
     /// in `round`). It is no longer waited for and its vertex stays blocked.
     pub fn declare_failed(&mut self, id: RobotId, at: VertexId, round: u32) {
@@ -494,7 +523,7 @@ impl<'g> Robot<'g> {
         let mut b = std::mem::take(&mut self.blocked_now);
         b.clear();
         b.extend(self.map.failures_now().filter(|f| unseen || f.seen).map(|f| f.at));
-        b.extend(self.map.bodies_now());
+        b.extend(self.map.bodies_found_now().filter(|&(v, found)| !self.phantom(v, found)).map(|b| b.0));
         if parked {
             b.extend(self.parked.iter().map(|p| p.1));
         }
@@ -657,7 +686,7 @@ impl<'g> Robot<'g> {
     /// Step 5 proper: the policy's rule picks among `cands`; anything but
     /// a candidate is staying.
     fn pick(&mut self, cands: &[VertexId]) -> Option<VertexId> {
-        if !self.rule.passes_unvisited() {
+        if !self.rule.passes_unvisited() || self.stuck_behind_unseen() {
             if let Some(step) = self.survivor_step(cands) {
                 return Some(step);
             }
@@ -713,6 +742,19 @@ impl<'g> Robot<'g> {
         }
         self.blocked_now = blocked;
         step.filter(|s| cands.contains(s))
+    }
+
+    /// Whether, failures known, nothing unvisited is reachable for the rule
+    /// (every failure and halted neighbour in the way), though the cut-off
+    /// test, which counts only failures whose body was seen, finds the
+    /// robot not cut off: a rule that passes unvisited vertices, left to
+    /// itself, would walk visited ones for ever instead of going to look.
+    fn stuck_behind_unseen(&mut self) -> bool {
+        if !self.faults_known() || self.map.failures_now().all(|f| f.seen) {
+            return false;
+        }
+        self.collect_blocked(true, true);
+        self.paths.step_to_unvisited(self.grid, &self.map, self.pos, &self.blocked_now).is_none()
     }
 
     /// Step 6 done: the world moved this robot to `to`.

@@ -32,6 +32,9 @@ pub struct RobotSetup {
     /// `|T|` in situation 1; 0 in situation 2, where no robot knows it.
     pub targets_total: usize,
     pub seed: u64,
+    /// Robots in the team, this one included: the roster, known before
+    /// the start like the robot's own id.
+    pub team: usize,
 }
 
 /// What the orchestrator hands a robot-agent it starts (`--setup`): the
@@ -63,6 +66,7 @@ impl RobotSetup {
             seed: self.seed,
             choices_update_maps: self.params.choices_update_maps,
             order: self.params.order,
+            team: self.team,
         };
         PeerConfig::new(rc, &self.params)
     }

@@ -97,8 +97,9 @@ impl<'g> Local<'g> {
     /// Every robot's map reads its edge masks from one table, made by the
     /// caller ([`SharedMasks`]): they are physics.
     fn new(world: &'g World, starts: &[VertexId], cfg: &RunConfig) -> Self {
-        let peers =
-            (0..starts.len()).map(|k| Peer::new(&world.grid, cfg.robot_setup(world, k).peer_config())).collect();
+        let peers = (0..starts.len())
+            .map(|k| Peer::new(&world.grid, cfg.robot_setup(world, k, starts.len()).peer_config()))
+            .collect();
         Local { peers, out: Output::default(), frames: Vec::new() }
     }
 }

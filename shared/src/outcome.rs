@@ -47,10 +47,10 @@ impl RunConfig {
         !self.faults.is_empty() || !self.radio.is_perfect()
     }
 
-    /// What robot `id` of this run on `world` holds before it starts: the
-    /// world's frame and parameters, and in situation 1 the number of
-    /// targets, nothing else of it.
-    pub fn robot_setup(&self, world: &World, id: usize) -> RobotSetup {
+    /// What robot `id` of a team of `team` on `world` holds before it
+    /// starts: the world's frame and parameters, and in situation 1 the
+    /// number of targets, nothing else of it.
+    pub fn robot_setup(&self, world: &World, id: usize, team: usize) -> RobotSetup {
         let (lo, hi) = world.area.bounding_box();
         RobotSetup {
             id: id as crate::map::RobotId,
@@ -62,6 +62,7 @@ impl RunConfig {
             situation: self.situation,
             targets_total: if self.situation == Situation::One { world.targets.len() } else { 0 },
             seed: self.seed,
+            team,
         }
     }
 
@@ -159,7 +160,7 @@ mod tests {
         let sc = Scenario::builtin("paper").unwrap();
         let world = sc.world();
         let cfg = RunConfig::new(Policy::Repulsive, 3, Situation::Two);
-        let s = cfg.robot_setup(&world, 2);
+        let s = cfg.robot_setup(&world, 2, 5);
         let g = s.grid();
         assert_eq!(g.len(), world.grid.len());
         for v in 0..g.len() as u32 {

@@ -7,7 +7,8 @@
 //! thousands of rounds; frames later than the exchange window read as dead
 //! neighbours; two late robots, each alone by its own window, stepping
 //! onto one vertex; two robots meeting on a jittering radio, each alone
-//! by its window. Each prints the command that replays it.
+//! by its window; a body left where a thawed robot stood, walling off a
+//! vertex for good. Each prints the command that replays it.
 
 use gridswarm::engine;
 use gridswarm::outcome::RunConfig;
@@ -251,4 +252,48 @@ fn a_rule_that_passes_unvisited_vertices_is_not_pulled_back_by_the_survivor_step
          --kill 2@19+0.065985",
         &["stop", "cut_off"],
     );
+}
+
+#[test]
+fn a_body_no_robot_can_be_does_not_cut_off_the_search() {
+    // Found by the liveness example: robot 2 froze in round 27, a sonar
+    // found it silent there (a body), and it thawed and walked away where
+    // no sonar came back to find the vertex free. Every robot of the team
+    // was heard alive elsewhere since, so the body could be nobody, but it
+    // walled off an unvisited vertex for good: every robot halted cut off
+    // and the search ended `cut_off`, incomplete. Bodies nobody can be
+    // (`Robot::phantom`, from the sightings and the team's roster) no
+    // longer block.
+    let policy: Policy = "frontier-sensed".parse().unwrap();
+    let faults = vec![
+        Fault { robot: 1, round: 9, offset: 485_712, kind: FaultKind::Freeze },
+        Fault { robot: 1, round: 11, offset: 261_886, kind: FaultKind::Thaw },
+        Fault { robot: 2, round: 27, offset: 1_043_883, kind: FaultKind::Freeze },
+        Fault { robot: 2, round: 32, offset: 451_989, kind: FaultKind::Thaw },
+    ];
+    let mut cfg = config(policy, 17195880724115803871, Situation::Two, faults);
+    cfg.max_rounds = 2000;
+    let replay = "--algorithm frontier-sensed --seed 17195880724115803871 --situation 2 --max-rounds 2000 \
+                  --freeze 1@9+0.485712:11+0.261886 --freeze 2@27+1.043883:32+0.451989";
+    completes(8, cfg, replay);
+}
+
+#[test]
+fn a_rule_that_passes_unvisited_vertices_goes_to_look_at_an_unseen_failure() {
+    // Found by the liveness example: robot 10 crashed in round 3 in the
+    // passage out of the start, walling eleven robots in (they saw the
+    // body and halted cut off); robot 7, already out, declared it but
+    // never saw it. For robot 7 the failure, unseen, cut nothing off, yet
+    // it blocked every way back for `frontier-sensed-coord`, which then
+    // walked visited vertices until the round limit (2,000 rounds; 113
+    // fault-free). The survivor step, which `frontier-sensed` rules skip
+    // so as not to pull them back from a frontier, now takes them towards
+    // the body when nothing unvisited is reachable for them otherwise.
+    let policy: Policy = "frontier-sensed-coord".parse().unwrap();
+    let faults = vec![Fault { robot: 10, round: 3, offset: 993_300, kind: FaultKind::Crash }];
+    let mut cfg = config(policy, 9130671652413155497, Situation::Two, faults);
+    cfg.max_rounds = 2000;
+    let replay = "--algorithm frontier-sensed-coord --seed 9130671652413155497 --situation 2 --max-rounds 2000 \
+                  --kill 10@3+0.9933";
+    ends(13, cfg, replay, &["stop", "cut_off"]);
 }

@@ -25,6 +25,9 @@ pub struct SetupArgs {
     /// This robot's number, 0 to the team's size - 1.
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..gridswarm::ipc::MAX_ROBOTS as i64))]
     pub robot: u32,
+    /// The team's size, as the world's `--robots` [default: the scenario's].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=gridswarm::ipc::MAX_ROBOTS as i64))]
+    pub robots: Option<u32>,
     /// Built-in scenario, a TOML file, a ROS map_server map (NAME.yaml) or random:SEED[,options],
     /// as the world's `--scenario`.
     #[arg(long, default_value = "paper")]
@@ -81,7 +84,9 @@ pub fn setup_file(a: &SetupArgs) -> Result<SetupFile> {
     let world = scenario.world();
     let cfg = RunConfig::new(a.algorithm, a.seed, scenario.situation);
     let agreement = run::agreement(&a.key, &id, &cfg, &world);
-    Ok(SetupFile { setup: cfg.robot_setup(&world, a.robot as usize), agreement })
+    // A number outside the team is the world's to refuse, in its words.
+    let team = a.robots.map_or(scenario.robots, |n| n as usize);
+    Ok(SetupFile { setup: cfg.robot_setup(&world, a.robot as usize, team), agreement })
 }
 
 /// Writes the file (whole or not at all); returns what to tell the user.
@@ -125,6 +130,7 @@ mod tests {
         SetupArgs {
             key: "key".into(),
             robot,
+            robots: Some(13),
             scenario: scenario.into(),
             algorithm,
             seed: 41,
@@ -153,7 +159,11 @@ mod tests {
             a.situation = Some(if situation == Situation::One { 1 } else { 2 });
             (a.retries, a.slot, a.order) = (retries, slot, order);
             let file = setup_file(&a).unwrap();
-            assert_eq!(file.setup, plan.cfg.robot_setup(&plan.world, robot as usize), "{scenario} {policy} {robot}");
+            assert_eq!(
+                file.setup,
+                plan.cfg.robot_setup(&plan.world, robot as usize, 13),
+                "{scenario} {policy} {robot}"
+            );
             assert_eq!(file.agreement, plan.agreement("key"), "{scenario} {policy} {robot}");
         }
     }

@@ -65,7 +65,9 @@ fn run(case: &vopr::Case, unfiltered: bool, whole: bool) -> RunResult {
     let (w, starts) = WORLDS.with(|worlds| worlds.of(case));
     let world = &w.1;
     let cfg = &case.config;
-    let peers = (0..starts.len()).map(|k| Peer::new(&world.grid, cfg.robot_setup(world, k).peer_config())).collect();
+    let peers = (0..starts.len())
+        .map(|k| Peer::new(&world.grid, cfg.robot_setup(world, k, starts.len()).peer_config()))
+        .collect();
     let mut robots = Plain { peers, out: Output::default(), unfiltered, whole };
     Kernel::new(world, &starts, cfg).run(&mut robots)
 }

@@ -55,7 +55,7 @@ impl RunFiles {
     pub fn write(&self, run: &RunFile, world: &World, cfg: &RunConfig, agreement: &Agreement) -> Result<()> {
         write_json(&self.run_file(), run)?;
         for k in 0..run.robots {
-            let file = SetupFile { setup: cfg.robot_setup(world, k), agreement: agreement.clone() };
+            let file = SetupFile { setup: cfg.robot_setup(world, k, run.robots), agreement: agreement.clone() };
             write_json(&self.setup(k), &file)?;
         }
         Ok(())

@@ -169,13 +169,14 @@ pub fn hand_hint(key: &str, opts: &super::RunOptions, plan: &super::Plan) -> Str
     }
     format!(
         "waiting for {} robot-agents; on their hosts run, once for each robot number K ({}):\n  \
-         gridswarm setup --key {key} --scenario {} --seed {} --algorithm {}{settings} --robot K --out robot-K.json\n  \
+         gridswarm setup --key {key} --scenario {} --seed {} --algorithm {}{settings} --robots {} --robot K --out robot-K.json\n  \
          robot-agent --transport zenoh --prefix {key}{connect}{security} --setup robot-K.json{}",
         plan.robots,
         gridswarm::agreement::robot_range(plan.robots),
         opts.scenario,
         opts.seed,
         opts.algorithm,
+        plan.robots,
         if opts.net.credentials.is_some() {
             "\n(each host needs ca.pem and its robots' robot-K.pem and robot-K.key from the credentials folder)"
         } else {
