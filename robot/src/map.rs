@@ -13,9 +13,11 @@ use crate::grid::{Grid, VertexId};
 use crate::spot::Spots;
 
 pub mod sightings;
+pub mod thin;
 pub mod tiles;
 
 use sightings::Sightings;
+use thin::Thin;
 use tiles::Tiles;
 
 pub type RobotId = u16;
@@ -63,7 +65,7 @@ pub struct Map {
     pub bodies: Vec<(VertexId, u32)>,
     /// For vertices once holding a body: the latest round a sonar found
     /// the vertex free. A body counts only while found later than this.
-    pub freed: Vec<(VertexId, u32)>,
+    pub freed: Thin<(VertexId, u32)>,
     /// Where robots were last heard, written once failures are known.
     pub sightings: Sightings,
     /// The round of a map this map's robot sent, from which this map
@@ -144,8 +146,8 @@ impl Serialize for Map {
             targets: &self.targets,
             failed: &self.failed,
             alive: &self.alive,
-            bodies: &self.bodies,
-            freed: &self.freed,
+            bodies: &self.bodies[..],
+            freed: &self.freed[..],
             sightings: &self.sightings,
         }
         .serialize(s)
@@ -164,7 +166,7 @@ impl<'de> Deserialize<'de> for Map {
             failed: f.failed,
             alive: f.alive,
             bodies: f.bodies,
-            freed: f.freed,
+            freed: Thin::from(f.freed),
             sightings: f.sightings,
             base: None,
         })
@@ -180,18 +182,22 @@ impl Map {
         use crate::protocol::varint_len as v;
         let vertices = self.cells.vertices();
         let n = vertices.div_ceil(64);
-        // Without failures or bodies (most maps sent), four empty lists.
-        let lists =
-            if self.failed.is_empty() && self.alive.is_empty() && self.bodies.is_empty() && self.freed.is_empty() {
-                4
-            } else {
-                self.lists_wire_len()
-            };
+        // Without failures or bodies (most maps sent), five empty lists.
+        let lists = if self.failed.is_empty()
+            && self.alive.is_empty()
+            && self.bodies.is_empty()
+            && self.freed.is_empty()
+            && self.sightings.is_empty()
+        {
+            5
+        } else {
+            self.lists_wire_len()
+        };
         2 * v(n as u64) + self.cells.words_wire_len() + v(vertices as u64) + vertices + self.targets.wire_len() + lists
     }
 
-    /// The bytes of the failures', rejoins', bodies' and freed vertices'
-    /// lists, out of [`Map::wire_len`]'s way.
+    /// The bytes of the failures', rejoins', bodies', freed vertices' and
+    /// sightings' lists, out of [`Map::wire_len`]'s way.
     #[inline(never)]
     fn lists_wire_len(&self) -> usize {
         use crate::protocol::varint_len as v;
@@ -201,7 +207,9 @@ impl Map {
             v(self.alive.len() as u64) + self.alive.iter().map(|&(a, b)| v(a.into()) + v(b.into())).sum::<usize>();
         let failed = v(self.failed.len() as u64)
             + self.failed.iter().map(|f| v(f.robot.into()) + v(f.at.into()) + v(f.round.into()) + 1).sum::<usize>();
-        failed + alive + pairs(&self.bodies) + pairs(&self.freed)
+        let sightings = v(self.sightings.len() as u64)
+            + self.sightings.iter().map(|s| v(s.robot.into()) + v(s.at.into()) + v(s.round.into())).sum::<usize>();
+        failed + alive + pairs(&self.bodies) + pairs(&self.freed) + sightings
     }
 
     pub fn new(vertices: usize) -> Self {
@@ -211,7 +219,7 @@ impl Map {
             failed: Vec::new(),
             alive: Vec::new(),
             bodies: Vec::new(),
-            freed: Vec::new(),
+            freed: Thin::default(),
             sightings: Sightings::default(),
             base: None,
         }
@@ -327,8 +335,8 @@ impl Map {
         for &(v, round) in &other.bodies {
             latest(&mut self.bodies, v, round);
         }
-        for &(v, round) in &other.freed {
-            latest(&mut self.freed, v, round);
+        for &(v, round) in other.freed.iter() {
+            latest(self.freed.vec_mut(), v, round);
         }
         self.sightings.merge(&other.sightings);
     }
@@ -342,7 +350,7 @@ impl Map {
     /// round no longer counts. Recorded only where a body was known.
     pub fn free_body(&mut self, v: VertexId, round: u32) {
         if self.bodies.binary_search_by_key(&v, |b| b.0).is_ok() {
-            latest(&mut self.freed, v, round);
+            latest(self.freed.vec_mut(), v, round);
         }
     }
 
@@ -468,7 +476,7 @@ impl Map {
         if self.bodies.windows(2).any(|w| w[0].0 >= w[1].0) || self.freed.windows(2).any(|w| w[0].0 >= w[1].0) {
             return Err("map body list not sorted by vertex".into());
         }
-        if self.bodies.iter().chain(&self.freed).any(|b| b.0 as usize >= vertices) {
+        if self.bodies.iter().chain(self.freed.iter()).any(|b| b.0 as usize >= vertices) {
             return Err("map names a vertex that does not exist".into());
         }
         if self.failed.iter().any(|f| f.robot as usize >= robots || f.at as usize >= vertices)
@@ -555,7 +563,7 @@ mod tests {
         failed: &'a Vec<Failure>,
         alive: &'a Vec<(RobotId, u32)>,
         bodies: &'a Vec<(VertexId, u32)>,
-        freed: &'a Vec<(VertexId, u32)>,
+        freed: &'a [(VertexId, u32)],
         sightings: &'a Sightings,
     }
 
@@ -582,7 +590,7 @@ mod tests {
             failed: &m.failed,
             alive: &m.alive,
             bodies: &m.bodies,
-            freed: &m.freed,
+            freed: &m.freed[..],
             sightings: &m.sightings,
         };
         let bytes = postcard::to_allocvec(&m).unwrap();

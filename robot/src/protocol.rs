@@ -487,6 +487,10 @@ mod tests {
         d.set_visited(3, true);
         check(&d, "a clone marked");
         check(&b, "its original");
+        d.sightings.add(crate::map::sightings::Sighting { robot: 300, at: 1099, round: 70_000 });
+        check(&d, "a sighting");
+        b.merge(&d);
+        check(&b, "a sighting merged");
     }
 
     proptest! {
@@ -511,6 +515,8 @@ mod tests {
                         m.add_body(v, round / 2);
                         m.free_body(v / 2, round);
                         m.alive.push((bits as RobotId * 300, round >> (bits % 32)));
+                        let robot = (bits as RobotId) << (bits % 9);
+                        m.sightings.add(crate::map::sightings::Sighting { robot, at: v, round: round >> (bits % 32) });
                     }
                 }
             }

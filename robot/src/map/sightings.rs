@@ -12,6 +12,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::grid::VertexId;
+use crate::map::thin::Thin;
 use crate::map::RobotId;
 
 /// Robot `robot` stood on `at` in `round`.
@@ -34,19 +35,19 @@ impl Sighting {
 /// The latest sighting of each robot, sorted by robot.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(transparent)]
-pub struct Sightings(Vec<Sighting>);
+pub struct Sightings(Thin<Sighting>);
 
 impl Sightings {
     pub fn add(&mut self, s: Sighting) {
         match self.0.binary_search_by_key(&s.robot, |t| t.robot) {
-            Ok(k) if s.rank() > self.0[k].rank() => self.0[k] = s,
+            Ok(k) if s.rank() > self.0[k].rank() => self.0.vec_mut()[k] = s,
             Ok(_) => {}
-            Err(k) => self.0.insert(k, s),
+            Err(k) => self.0.vec_mut().insert(k, s),
         }
     }
 
     pub fn merge(&mut self, other: &Sightings) {
-        for &s in &other.0 {
+        for &s in other.0.iter() {
             self.add(s);
         }
     }
@@ -61,6 +62,10 @@ impl Sightings {
 
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
     }
 
     pub fn clone_from_sightings(&mut self, source: &Sightings) {
