@@ -1,6 +1,6 @@
 //! A list most maps never fill, one pointer wide: a map travels by value
 //! in every frame, and past 240 bytes a frame's every move is a longer
-//! copy (`protocol`'s size test). Rejoins' rounds and sightings are
+//! copy (`protocol`'s size test). Freed bodies and sightings are
 //! written only once a failure is known.
 
 use serde::{Deserialize, Serialize};
