@@ -168,6 +168,8 @@ pub struct Robot<'g> {
     /// Scratch for the rule's view, kept so choosing never allocates.
     views: Vec<NeighbourView>,
     blocked_now: Vec<VertexId>,
+    /// Scratch: the bodies no robot can be ([`Robot::phantoms`]).
+    phantoms_now: Vec<VertexId>,
 }
 
 impl std::fmt::Debug for Robot<'_> {
@@ -209,6 +211,7 @@ impl<'g> Robot<'g> {
             paths: Paths::default(),
             views: Vec::with_capacity(16),
             blocked_now: Vec::new(),
+            phantoms_now: Vec::new(),
         }
     }
 
@@ -466,20 +469,40 @@ impl<'g> Robot<'g> {
         None
     }
 
-    /// Whether the silent body found on `v` in round `found` can be no
-    /// robot of the team: every other one was seen since, elsewhere, or
-    /// failed elsewhere with its body seen. The robot that stood there
-    /// silent (frozen, or unheard) has moved on, and no sonar has come by
-    /// to find the vertex free; kept, it would cut off what lies behind it
-    /// for good. If a robot does stand there, the next sonar to pass finds
-    /// it again, later. Only with the team's roster known.
-    fn phantom(&self, v: VertexId, found: u32) -> bool {
+    /// The silent bodies no robot of the team can be, into `out`. A body
+    /// found on `v` in round `t` is some robot that stood there silent
+    /// then; not one known to be elsewhere later: heard since, on another
+    /// vertex, failed on another vertex with its body seen, or the only
+    /// robot a body found later on another vertex can be (bodies are
+    /// taken latest first, so that one is known before). Such a body is a
+    /// robot that thawed, or was heard again, and moved on, where no sonar
+    /// came by to find the vertex free; kept, it would cut off what lies
+    /// behind it for good. If a robot does stand there, the next sonar to
+    /// pass finds it again, later. Only with the team's roster known.
+    fn phantoms(&self, out: &mut Vec<VertexId>) {
         let (team, me) = (self.cfg.team, self.cfg.id);
-        team > 0
-            && (0..team as RobotId).filter(|&r| r != me).all(|r| match self.map.failure(r) {
-                Some(f) => f.seen && f.at != v,
-                None => self.map.sightings.of(r).is_some_and(|s| s.round > found && s.at != v),
+        if team == 0 {
+            return;
+        }
+        let mut bodies: Vec<(VertexId, u32)> = self.map.bodies_found_now().collect();
+        bodies.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        // Where each robot is known to be, and from which round on.
+        let mut placed: Vec<Option<(VertexId, u32)>> = (0..team as RobotId)
+            .map(|r| match self.map.failure(r) {
+                Some(f) if f.seen => Some((f.at, u32::MAX)),
+                Some(_) => None,
+                None => self.map.sightings.of(r).map(|s| (s.at, s.round)),
             })
+            .collect();
+        for (v, found) in bodies {
+            let can_be = |r: usize| r != me as usize && placed[r].is_none_or(|(at, t)| at == v || t < found);
+            let mut cands = (0..team).filter(|&r| can_be(r));
+            match (cands.next(), cands.next()) {
+                (None, _) => out.push(v),
+                (Some(r), None) if placed[r].is_none_or(|(_, t)| t < found) => placed[r] = Some((v, found)),
+                _ => {}
+            }
+        }
     }
 
     /// Sec. 4.2: robot `id`, standing on `at`, will never answer (declared
@@ -523,7 +546,13 @@ impl<'g> Robot<'g> {
         let mut b = std::mem::take(&mut self.blocked_now);
         b.clear();
         b.extend(self.map.failures_now().filter(|f| unseen || f.seen).map(|f| f.at));
-        b.extend(self.map.bodies_found_now().filter(|&(v, found)| !self.phantom(v, found)).map(|b| b.0));
+        let mut phantoms = std::mem::take(&mut self.phantoms_now);
+        phantoms.clear();
+        if self.map.bodies_now().next().is_some() {
+            self.phantoms(&mut phantoms);
+        }
+        b.extend(self.map.bodies_now().filter(|v| !phantoms.contains(v)));
+        self.phantoms_now = phantoms;
         if parked {
             b.extend(self.parked.iter().map(|p| p.1));
         }

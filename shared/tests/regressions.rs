@@ -297,3 +297,36 @@ fn a_rule_that_passes_unvisited_vertices_goes_to_look_at_an_unseen_failure() {
                   --kill 10@3+0.9933";
     ends(13, cfg, replay, &["stop", "cut_off"]);
 }
+
+#[test]
+fn a_body_only_a_robot_placed_later_elsewhere_could_be_does_not_cut_off_the_search() {
+    // Found by the soak (seed 20261210, case 158586): robot 1 froze in
+    // round 15 and a sonar found it silent (a body); it thawed and moved
+    // on. Robot 3 crashed in round 20 and was never heard again, so it
+    // could have been that body, until a body found in round 187
+    // elsewhere could be robot 3 alone: robot 3 was there then, and the
+    // first body is nobody. Both walled off vertices for good, and the
+    // search ended `cut_off` with reachable vertices unvisited.
+    let policy: Policy = "frontier-sensed-coord".parse().unwrap();
+    let faults = vec![
+        Fault { robot: 3, round: 20, offset: 289_976, kind: FaultKind::Crash },
+        Fault { robot: 1, round: 15, offset: 597_181, kind: FaultKind::Freeze },
+        Fault { robot: 1, round: 19, offset: 344_928, kind: FaultKind::Thaw },
+    ];
+    let mut cfg = config(policy, 10589485031758695036, Situation::Two, faults);
+    cfg.max_rounds = 2000;
+    cfg.radio = Radio { dup: 0.1355, ..Radio::default() };
+    let mut sc = Scenario::builtin("cave").unwrap();
+    sc.params.order = gridswarm::params::Order::Local;
+    let world = sc.world();
+    let starts = sc.start_vertices(&world, 5).unwrap();
+    let r = engine::run(&world, &starts, &cfg);
+    assert!(
+        r.complete && matches!(r.protocol.ended_by.as_str(), "stop" | "cut_off"),
+        "ended by {} at round {}\n  replay: gridswarm simulate --scenario cave --robots 5 --algorithm \
+         frontier-sensed-coord --seed 10589485031758695036 --situation 2 --max-rounds 2000 --order local \
+         --dup 0.1355 --kill 3@20+0.289976 --freeze 1@15+0.597181:19+0.344928",
+        r.protocol.ended_by,
+        r.rounds
+    );
+}
