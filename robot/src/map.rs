@@ -361,7 +361,7 @@ impl Map {
 
     /// Vertices holding a silent body now.
     pub fn bodies_now(&self) -> impl Iterator<Item = VertexId> + '_ {
-        self.bodies.iter().filter(|b| round_of(&self.freed, b.0).is_none_or(|r| r < b.1)).map(|b| b.0)
+        self.bodies_found_now().map(|b| b.0)
     }
 
     /// Declares `id` failed on `at` in `round`. Of two declarations the

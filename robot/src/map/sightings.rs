@@ -1,7 +1,7 @@
-//! Where robots were last heard, once failures are known: what a robot cut
-//! off behind bodies needs to tell that every live robot is cut off with
-//! it, so that nothing more can be visited by anyone and its stop may end
-//! the search ([`crate::robot::Stop::Unreachable`]).
+//! Where robots were last heard, once failures are known: what a robot
+//! needs to tell a silent body that no robot of the team can be any more
+//! (one that thawed, or was heard again, and moved on) from one that
+//! may still wall off what lies behind it (`Robot::phantoms`).
 //!
 //! A robot that knows of a failure writes its own sighting every slot; a
 //! robot that does not (it has never heard of one) is written down by
