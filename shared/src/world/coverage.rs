@@ -241,14 +241,14 @@ impl Footprints {
         }
         let side = 2 * w + 1;
         let used: Vec<i64> = (0..grid.len() as i64).filter(|&k| grid[k as usize] != (0, 0)).collect();
-        let dxy = |k: i64| (k % side - w, k / side - w);
+        let dxy: Vec<(i64, i64)> = used.iter().map(|&k| (k % side - w, k / side - w)).collect();
+        let dts: Vec<i32> =
+            dxy.iter().map(|&(dx, dy)| i32::try_from(dy * self.tx + dx).expect("a map of tiles in range")).collect();
         // `used` goes a row at a time, left to right.
         let mut rows: Vec<(i32, u32, std::ops::Range<u32>)> = Vec::new();
-        for (e, &k) in used.iter().enumerate() {
-            let (dx, dy) = dxy(k);
-            let dt = i32::try_from(dy * self.tx + dx).expect("a map of tiles in range");
+        for (e, (&(_, dy), &dt)) in dxy.iter().zip(&dts).enumerate() {
             match rows.last_mut() {
-                Some(row) if e > 0 && dxy(used[e - 1]).1 == dy => {
+                Some(row) if e > 0 && dxy[e - 1].1 == dy => {
                     row.1 = (dt - row.0 + 1) as u32;
                     row.2.end = e as u32 + 1;
                 }
@@ -257,21 +257,9 @@ impl Footprints {
         }
         Shape {
             rows: rows.into_boxed_slice(),
-            dt: used
-                .iter()
-                .map(|&k| {
-                    let (dx, dy) = dxy(k);
-                    i32::try_from(dy * self.tx + dx).expect("a map of tiles in range")
-                })
-                .collect(),
+            dt: dts.into_boxed_slice(),
             masks: used.iter().map(|&k| grid[k as usize]).collect(),
-            dxy: used
-                .iter()
-                .map(|&k| {
-                    let (dx, dy) = dxy(k);
-                    (dx as i16, dy as i16)
-                })
-                .collect(),
+            dxy: dxy.iter().map(|&(dx, dy)| (dx as i16, dy as i16)).collect(),
         }
     }
 
