@@ -766,12 +766,15 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
     /// robot it held failed heard again, a body found gone), news that
     /// takes one slot a hop. Slots in a row with no robot searching but
     /// some halted and running are counted; once they exceed the most hops
-    /// between two such robots, every map holds what the others hold, and
-    /// nothing can change any more.
+    /// between two such robots by one, every map holds what the others
+    /// hold, and nothing can change any more. The one: the last robot to
+    /// halt decided on what it sensed before that slot's moves, so the
+    /// first reading of the world as it stays is the next slot's (a body
+    /// sensed where a robot stood, silent, before it moved on).
     fn quiet_enough(&mut self) -> bool {
         self.quiet += 1;
         let parked = self.bots.iter().any(|b| b.halted && b.body == Body::Running);
-        !parked || self.quiet > self.hops_across()
+        !parked || self.quiet > self.hops_across() + 1
     }
 
     /// The most radio hops between two running robots that can reach each
