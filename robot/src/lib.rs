@@ -28,4 +28,5 @@ pub mod rng;
 pub mod robot;
 pub mod setup;
 pub mod spot;
+pub mod trail;
 pub mod wire;

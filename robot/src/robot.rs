@@ -29,6 +29,7 @@ use crate::params::{Order, Situation};
 use crate::policy::Policy;
 use crate::rng::robot_rng;
 use crate::spot::Spot;
+use crate::trail::Trail;
 
 /// What a robot needs to know about itself and the run.
 #[derive(Clone, Copy, Debug)]
@@ -170,6 +171,8 @@ pub struct Robot<'g> {
     blocked_now: Vec<VertexId>,
     /// Scratch: the bodies no robot can be ([`Robot::phantoms`]).
     phantoms_now: Vec<VertexId>,
+    /// Where it stood, to tell bodies that were itself.
+    trail: Trail,
 }
 
 impl std::fmt::Debug for Robot<'_> {
@@ -212,6 +215,7 @@ impl<'g> Robot<'g> {
             views: Vec::with_capacity(16),
             blocked_now: Vec::new(),
             phantoms_now: Vec::new(),
+            trail: Trail::default(),
         }
     }
 
@@ -297,6 +301,7 @@ impl<'g> Robot<'g> {
         self.drop_claims();
         self.merged.retain(|m| m.1 + 1 >= round);
         self.map.record_sensing(self.grid, self.pos, s.open);
+        self.trail.record(round, self.pos);
         self.learn_targets(s.targets);
         self.nbrs.clear();
         if !(self.map.bodies.is_empty() && self.parked.is_empty()) || self.map.any_failed() {
@@ -399,8 +404,9 @@ impl<'g> Robot<'g> {
             // better, and its map now says so to everyone it meets.
             self.map.revive(self.cfg.id, self.round);
         }
-        // Likewise found as a silent body where it stands.
+        // Likewise found as a silent body where it stands, or stood.
         self.map.free_body(self.pos, self.round);
+        self.free_own_bodies();
         self.refresh_failed();
         if map.sightings.of(from).is_none() && self.faults_known() {
             // It has heard of no failure, so it does not say where it is:
@@ -408,6 +414,23 @@ impl<'g> Robot<'g> {
             self.map.sightings.add(Sighting { robot: from, at, round: self.round });
         }
         true
+    }
+
+    /// The bodies its map holds where it stood itself when they were found
+    /// were this robot, silent (frozen, or unheard), and it has moved on:
+    /// they are freed as of the last round it stood there. Nobody else can
+    /// tell such a body from a crash, and each would wall off what lies
+    /// behind it until a sonar came by. A robot found there later is
+    /// another body, found in a later round, and stays.
+    fn free_own_bodies(&mut self) {
+        if self.map.bodies.is_empty() {
+            return;
+        }
+        let own = |(v, t): (VertexId, u32)| self.trail.stood(v, t).map(|last| (v, last));
+        let freed: Vec<(VertexId, u32)> = self.map.bodies_found_now().filter_map(own).collect();
+        for (v, last) in freed {
+            self.map.free_body(v, last);
+        }
     }
 
     /// A merged map may declare failed a robot heard this round: what this

@@ -8,8 +8,10 @@
 //! neighbours; two late robots, each alone by its own window, stepping
 //! onto one vertex; two robots meeting on a jittering radio, each alone
 //! by its window; a body left where a thawed robot stood, walling off a
-//! vertex for good; the run's record ended on a cut-off decided before
-//! the last moves. Each prints the command that replays it.
+//! vertex for good; a body that was a robot standing frozen, walling off
+//! what lay behind it until that robot came by; the run's record ended
+//! on a cut-off decided before the last moves. Each prints the command
+//! that replays it.
 
 use gridswarm::engine;
 use gridswarm::outcome::RunConfig;
@@ -332,6 +334,34 @@ fn a_body_only_a_robot_placed_later_elsewhere_could_be_does_not_cut_off_the_sear
 }
 
 #[test]
+fn a_body_found_where_a_robot_stood_frozen_is_freed_by_that_robot() {
+    // Found by the soak (seed 20261210): robot 3 froze in round 14 at the
+    // east end of the lower passage, a sonar found it there silent in
+    // round 17 (a body), and it thawed in round 20 and moved on. Robot 4
+    // crashed in round 15 and was never heard again, so the body could be
+    // robot 4 for everybody, robot 3 included: the team ended `cut_off`
+    // with the vertices behind it unvisited. A robot now remembers where
+    // it stood (`trail.rs`), and frees a body found where and when it
+    // stood itself.
+    let policy: Policy = "frontier-sensed-coord".parse().unwrap();
+    let faults = vec![
+        Fault { robot: 3, round: 14, offset: 988_152, kind: FaultKind::Freeze },
+        Fault { robot: 3, round: 20, offset: 1_057_495, kind: FaultKind::Thaw },
+        Fault { robot: 4, round: 15, offset: 1_428_061, kind: FaultKind::Crash },
+    ];
+    let mut cfg = config(policy, 3523737563687373211, Situation::Two, faults);
+    cfg.max_rounds = 2000;
+    cfg.radio = Radio { delay: 4_846, jitter: 10_347, ..Radio::default() };
+    let mut sc = Scenario::builtin("cave").unwrap();
+    sc.params.order = gridswarm::params::Order::Local;
+    sc.params.slot = gridswarm::params::SlotRule::Fixed;
+    let replay = "--algorithm frontier-sensed-coord --seed 3523737563687373211 --situation 2 --max-rounds 2000 \
+                  --slot fixed --order local --delay 4.846:10.347 --freeze 3@14+0.988152:20+1.057495 \
+                  --kill 4@15+1.428061";
+    ends_in(sc, "cave", 5, cfg, replay, &["stop", "cut_off"]);
+}
+
+#[test]
 fn a_cut_off_decided_before_the_last_moves_does_not_end_the_run() {
     // Found by the soak (seed 20261210): frames later than the window, so
     // in round 0 robot 0 found its two neighbours silent (bodies) on the
@@ -342,11 +372,7 @@ fn a_cut_off_decided_before_the_last_moves_does_not_end_the_run() {
     // would have found both vertices free, never came. A run ends cut off
     // only after a slot more than the news needs to cross the team.
     let policy: Policy = "ru".parse().unwrap();
-    let faults = vec![
-        at(2, 0, 916, FaultKind::Crash),
-        at(1, 0, 1_385, FaultKind::Freeze),
-        at(0, 12, 464, slow(527)),
-    ];
+    let faults = vec![at(2, 0, 916, FaultKind::Crash), at(1, 0, 1_385, FaultKind::Freeze), at(0, 12, 464, slow(527))];
     let mut cfg = config(policy, 11006519985106859378, Situation::Two, faults);
     cfg.max_rounds = 2000;
     cfg.radio = Radio { delay: 136_107, jitter: 178_112, dup: 0.0885, ..Radio::default() };
