@@ -10,8 +10,8 @@
 //! by its window; a body left where a thawed robot stood, walling off a
 //! vertex for good; a body that was a robot standing frozen, walling off
 //! what lay behind it until that robot came by; the run's record ended
-//! on a cut-off decided before the last moves. Each prints the command
-//! that replays it.
+//! on a cut-off decided before the last moves, or before the controller
+//! heard a stop. Each prints the command that replays it.
 
 use gridswarm::engine;
 use gridswarm::outcome::RunConfig;
@@ -382,4 +382,21 @@ fn a_cut_off_decided_before_the_last_moves_does_not_end_the_run() {
                   --delay 136.107:178.112 --dup 0.0885 --kill 2@0+0.915777 --freeze 1@0+1.384762 \
                   --slow 0@12+0.464102:527";
     ends_in(sc, "small", 3, cfg, replay, &["stop", "cut_off"]);
+}
+
+#[test]
+fn a_stop_the_controller_did_not_hear_keeps_the_run_going_until_it_does() {
+    // Found by the simulation test once it judged every `cut_off`: under
+    // loss, the lone survivor found the last target and stopped, but its
+    // frames to the controller were lost in the two slots the world
+    // waited with nobody searching, and the run ended `cut_off` as if the
+    // robot were cut off. A robot that stopped sends the stop in its map
+    // every slot; the record now ends when the controller hears it.
+    let faults = vec![at(0, 2, 1_043, FaultKind::Crash)];
+    let mut cfg = config(Policy::Repulsive, 9406276468477828813, Situation::One, faults);
+    cfg.max_rounds = 2000;
+    cfg.radio = Radio { loss: 0.172, delay: 15_540, dup: 0.456, ..Radio::default() };
+    let replay = "--algorithm repulsive --seed 9406276468477828813 --situation 1 --max-rounds 2000 \
+                  --delay 15.54:0 --dup 0.456 --loss 0.172 --kill 0@2+1.043043";
+    ends_on("small", 2, cfg, replay, &["stop"]);
 }

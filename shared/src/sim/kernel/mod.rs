@@ -86,6 +86,10 @@ struct Bot<P> {
     /// Frames it handed to the radio, and their bytes on the wire.
     frames: u64,
     bytes: u64,
+    /// It has sent the stop (step 8). A stop is for good, and a halted
+    /// robot sends its map, the stop in it, every slot: unless it fails,
+    /// the controller hears it in the end, however lossy its link.
+    sent_stop: bool,
 }
 
 /// The world of one run.
@@ -184,6 +188,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 idle: Vec::new(),
                 frames: 0,
                 bytes: 0,
+                sent_stop: false,
             })
             .collect();
         let mut k = Kernel {
@@ -569,6 +574,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         b.bytes += payload.wire_len() as u64;
         let from = r as RobotId;
         if !self.stop_heard && payload.carries_stop() {
+            self.bots[r].sent_stop = true;
             let round = payload.header().map_or(self.round, |h| h.round);
             self.to_controller(r, seq, round, ready, copies);
         }
@@ -747,7 +753,11 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             self.ended = Some("stop");
         } else if self.round >= self.cfg.max_rounds && searching_left(&self.bots) {
             self.ended = Some("max_rounds");
-        } else if !searching_left(&self.bots) && !self.thaw_ahead() && self.stops_in_flight == 0 && self.quiet_enough()
+        } else if !searching_left(&self.bots)
+            && !self.thaw_ahead()
+            && self.stops_in_flight == 0
+            && !self.stop_on_air()
+            && self.quiet_enough()
         {
             self.ended =
                 Some(if self.bots.iter().any(|b| b.halted && b.body != Body::Dead) { "cut_off" } else { "no_robots" });
@@ -775,6 +785,13 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         self.quiet += 1;
         let parked = self.bots.iter().any(|b| b.halted && b.body == Body::Running);
         !parked || self.quiet > self.hops_across() + 1
+    }
+
+    /// Whether a running robot sends a stop the controller has not heard
+    /// yet (its frames to the controller lost): the search has ended, but
+    /// its record does not end before the controller hears it.
+    fn stop_on_air(&self) -> bool {
+        self.bots.iter().any(|b| b.sent_stop && b.body == Body::Running)
     }
 
     /// The most radio hops between two running robots that can reach each
