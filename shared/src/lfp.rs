@@ -551,6 +551,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
         collisions,
         coverage: fraction,
         complete,
+        cut_off_early: false,
         robot_rounds: rounds as u64 * n as u64,
         trajectories,
         round_end_times_s: round_end_times,

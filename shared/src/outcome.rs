@@ -101,6 +101,13 @@ pub struct RunResult {
     pub coverage: Option<f64>,
     /// Whether the stop rule was reached (all targets, or every vertex of `Va`).
     pub complete: bool,
+    /// Ended `cut_off` while a running robot could still reach, around the
+    /// bodies, a vertex nobody visited: what cut the team off was gone.
+    /// In situation 2 the same as not `complete`; in situation 1, where
+    /// `complete` means every target found, the only word on it. The
+    /// simulation test's, never written out.
+    #[serde(default)]
+    pub cut_off_early: bool,
     /// Robot-rounds: the sum over rounds of the robots still active.
     pub robot_rounds: u64,
     /// `trajectories[r][k]`: robot `r`'s pose at the start of round `k`

@@ -6,8 +6,8 @@
 //!
 //! - the search ends only when it is done: never `false_stop` (a stop on an
 //!   incomplete search) nor `exhausted` (every case's map lets every
-//!   target be found), and in situation 2 never `cut_off` while a live
-//!   robot could still reach an unvisited vertex;
+//!   target be found), and never `cut_off` while a live robot could
+//!   still reach an unvisited vertex ([`RunResult::cut_off_early`]);
 //! - no collision and no refused move, inside the stated bound
 //!   ([`Case::in_bound`]: no loss, every frame within the widest window,
 //!   jitter within the choice time, an algorithm that avoids collisions);
@@ -308,7 +308,7 @@ pub fn check(case: &Case, r: &RunResult, suspect_rounds: u32) -> Result<(), Viol
         let why = format!("ended by {} with {} of {} targets found", p.ended_by, r.targets_found, r.targets_total);
         return broken("early stop", why);
     }
-    if p.ended_by == "cut_off" && case.config.situation == Situation::Two && !r.complete {
+    if r.cut_off_early {
         // Every live robot halted, cut off, while one could still reach an
         // unvisited vertex: what cut it off (a body, a failure) was gone.
         let why = format!(

@@ -295,6 +295,7 @@ impl<'a> Search<'a> {
             collisions: self.collisions,
             coverage,
             complete,
+            cut_off_early: false,
             robot_rounds: self.robot_rounds,
             trajectories: self.trajectories,
             round_end_times_s: self.round_end_times,

@@ -15,20 +15,26 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             .filter(|&k| self.bots[k].body != Body::Running)
             .map(|k| self.referee.position(k))
             .collect();
+        // Whether some vertex a running robot could reach, around the
+        // bodies, was never visited. Only asked of runs that ended `stop`
+        // or `cut_off`, so the sweeps' fault-free runs pay for no search.
+        let unvisited_left = || {
+            let live: Vec<VertexId> = (0..self.bots.len())
+                .filter(|&k| self.bots[k].body == Body::Running)
+                .map(|k| self.referee.position(k))
+                .collect();
+            let va = if dead.is_empty() {
+                world.reachable_from(&self.starts)
+            } else {
+                world.reachable_avoiding(&live, &dead)
+            };
+            (0..world.grid.len()).any(|v| va[v] && !self.referee.visited().get(v))
+        };
+        let cut_off_early = ended == "cut_off" && unvisited_left();
         let complete = match self.cfg.situation {
             Situation::One => self.stats.stop_round.is_some() && self.referee.found().count() == world.targets.len(),
-            Situation::Two if matches!(ended, "stop" | "cut_off") => {
-                let live: Vec<VertexId> = (0..self.bots.len())
-                    .filter(|&k| self.bots[k].body == Body::Running)
-                    .map(|k| self.referee.position(k))
-                    .collect();
-                let va = if dead.is_empty() {
-                    world.reachable_from(&self.starts)
-                } else {
-                    world.reachable_avoiding(&live, &dead)
-                };
-                (0..world.grid.len()).all(|v| !va[v] || self.referee.visited().get(v))
-            }
+            Situation::Two if ended == "cut_off" => !cut_off_early,
+            Situation::Two if ended == "stop" => !unvisited_left(),
             Situation::Two => false,
         };
         // A stop ends the search as complete only when it is: one that
@@ -76,6 +82,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             collisions: self.collisions,
             coverage,
             complete,
+            cut_off_early,
             robot_rounds: self.robot_rounds,
             trajectories: self.trajectories,
             round_end_times_s: self.round_end_times,
