@@ -15,7 +15,7 @@
 
 use gridswarm::engine;
 use gridswarm::outcome::RunConfig;
-use gridswarm::params::Situation;
+use gridswarm::params::{Order, Situation, SlotRule};
 use gridswarm::policy::Policy;
 use gridswarm::scenario::Scenario;
 use gridswarm::sim::{Fault, FaultKind, Radio};
@@ -67,6 +67,22 @@ fn config(policy: Policy, seed: u64, situation: Situation, faults: Vec<Fault>) -
     let mut cfg = RunConfig::new(policy, seed, situation);
     cfg.faults = faults;
     cfg
+}
+
+/// A case as the simulation test draws it: rule `policy` by name, at most
+/// 2,000 rounds, on `radio`.
+fn drawn(policy: &str, seed: u64, situation: Situation, faults: Vec<Fault>, radio: Radio) -> RunConfig {
+    let mut cfg = config(policy.parse().unwrap(), seed, situation, faults);
+    cfg.max_rounds = 2000;
+    cfg.radio = radio;
+    cfg
+}
+
+/// The built-in scenario `name` with its parameters changed by `change`.
+fn builtin_with(name: &str, change: impl FnOnce(&mut gridswarm::params::Params)) -> Scenario {
+    let mut sc = Scenario::builtin(name).unwrap();
+    change(&mut sc.params);
+    sc
 }
 
 #[test]
@@ -317,17 +333,14 @@ fn a_body_only_a_robot_placed_later_elsewhere_could_be_does_not_cut_off_the_sear
     // elsewhere could be robot 3 alone: robot 3 was there then, and the
     // first body is nobody. Both walled off vertices for good, and the
     // search ended `cut_off` with reachable vertices unvisited.
-    let policy: Policy = "frontier-sensed-coord".parse().unwrap();
     let faults = vec![
         Fault { robot: 3, round: 20, offset: 289_976, kind: FaultKind::Crash },
         Fault { robot: 1, round: 15, offset: 597_181, kind: FaultKind::Freeze },
         Fault { robot: 1, round: 19, offset: 344_928, kind: FaultKind::Thaw },
     ];
-    let mut cfg = config(policy, 10589485031758695036, Situation::Two, faults);
-    cfg.max_rounds = 2000;
-    cfg.radio = Radio { dup: 0.1355, ..Radio::default() };
-    let mut sc = Scenario::builtin("cave").unwrap();
-    sc.params.order = gridswarm::params::Order::Local;
+    let radio = Radio { dup: 0.1355, ..Radio::default() };
+    let cfg = drawn("frontier-sensed-coord", 10589485031758695036, Situation::Two, faults, radio);
+    let sc = builtin_with("cave", |p| p.order = Order::Local);
     let replay = "--algorithm frontier-sensed-coord --seed 10589485031758695036 --situation 2 --max-rounds 2000 \
                   --order local --dup 0.1355 --kill 3@20+0.289976 --freeze 1@15+0.597181:19+0.344928";
     ends_in(sc, "cave", 5, cfg, replay, &["stop", "cut_off"]);
@@ -343,18 +356,14 @@ fn a_body_found_where_a_robot_stood_frozen_is_freed_by_that_robot() {
     // with the vertices behind it unvisited. A robot now remembers where
     // it stood (`trail.rs`), and frees a body found where and when it
     // stood itself.
-    let policy: Policy = "frontier-sensed-coord".parse().unwrap();
     let faults = vec![
         Fault { robot: 3, round: 14, offset: 988_152, kind: FaultKind::Freeze },
         Fault { robot: 3, round: 20, offset: 1_057_495, kind: FaultKind::Thaw },
         Fault { robot: 4, round: 15, offset: 1_428_061, kind: FaultKind::Crash },
     ];
-    let mut cfg = config(policy, 3523737563687373211, Situation::Two, faults);
-    cfg.max_rounds = 2000;
-    cfg.radio = Radio { delay: 4_846, jitter: 10_347, ..Radio::default() };
-    let mut sc = Scenario::builtin("cave").unwrap();
-    sc.params.order = gridswarm::params::Order::Local;
-    sc.params.slot = gridswarm::params::SlotRule::Fixed;
+    let radio = Radio { delay: 4_846, jitter: 10_347, ..Radio::default() };
+    let cfg = drawn("frontier-sensed-coord", 3523737563687373211, Situation::Two, faults, radio);
+    let sc = builtin_with("cave", |p| (p.order, p.slot) = (Order::Local, SlotRule::Fixed));
     let replay = "--algorithm frontier-sensed-coord --seed 3523737563687373211 --situation 2 --max-rounds 2000 \
                   --slot fixed --order local --delay 4.846:10.347 --freeze 3@14+0.988152:20+1.057495 \
                   --kill 4@15+1.428061";
@@ -371,13 +380,10 @@ fn a_cut_off_decided_before_the_last_moves_does_not_end_the_run() {
     // the run's record ended with that slot: its next sensing, which
     // would have found both vertices free, never came. A run ends cut off
     // only after a slot more than the news needs to cross the team.
-    let policy: Policy = "ru".parse().unwrap();
     let faults = vec![at(2, 0, 916, FaultKind::Crash), at(1, 0, 1_385, FaultKind::Freeze), at(0, 12, 464, slow(527))];
-    let mut cfg = config(policy, 11006519985106859378, Situation::Two, faults);
-    cfg.max_rounds = 2000;
-    cfg.radio = Radio { delay: 136_107, jitter: 178_112, dup: 0.0885, ..Radio::default() };
-    let mut sc = Scenario::builtin("small").unwrap();
-    sc.params.slot = gridswarm::params::SlotRule::Fixed;
+    let radio = Radio { delay: 136_107, jitter: 178_112, dup: 0.0885, ..Radio::default() };
+    let cfg = drawn("ru", 11006519985106859378, Situation::Two, faults, radio);
+    let sc = builtin_with("small", |p| p.slot = SlotRule::Fixed);
     let replay = "--algorithm ru --seed 11006519985106859378 --situation 2 --max-rounds 2000 --slot fixed \
                   --delay 136.107:178.112 --dup 0.0885 --kill 2@0+0.915777 --freeze 1@0+1.384762 \
                   --slow 0@12+0.464102:527";
@@ -393,9 +399,8 @@ fn a_stop_the_controller_did_not_hear_keeps_the_run_going_until_it_does() {
     // robot were cut off. A robot that stopped sends the stop in its map
     // every slot; the record now ends when the controller hears it.
     let faults = vec![at(0, 2, 1_043, FaultKind::Crash)];
-    let mut cfg = config(Policy::Repulsive, 9406276468477828813, Situation::One, faults);
-    cfg.max_rounds = 2000;
-    cfg.radio = Radio { loss: 0.172, delay: 15_540, dup: 0.456, ..Radio::default() };
+    let radio = Radio { loss: 0.172, delay: 15_540, dup: 0.456, ..Radio::default() };
+    let cfg = drawn("repulsive", 9406276468477828813, Situation::One, faults, radio);
     let replay = "--algorithm repulsive --seed 9406276468477828813 --situation 1 --max-rounds 2000 \
                   --delay 15.54:0 --dup 0.456 --loss 0.172 --kill 0@2+1.043043";
     ends_on("small", 2, cfg, replay, &["stop"]);
