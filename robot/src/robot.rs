@@ -169,8 +169,6 @@ pub struct Robot<'g> {
     /// Scratch for the rule's view, kept so choosing never allocates.
     views: Vec<NeighbourView>,
     blocked_now: Vec<VertexId>,
-    /// Scratch: the bodies no robot can be ([`Robot::phantoms`]).
-    phantoms_now: Vec<VertexId>,
     /// Where it stood, to tell bodies that were itself.
     trail: Trail,
 }
@@ -214,7 +212,6 @@ impl<'g> Robot<'g> {
             paths: Paths::default(),
             views: Vec::with_capacity(16),
             blocked_now: Vec::new(),
-            phantoms_now: Vec::new(),
             trail: Trail::default(),
         }
     }
@@ -492,7 +489,7 @@ impl<'g> Robot<'g> {
         None
     }
 
-    /// The silent bodies no robot of the team can be, into `out`. A body
+    /// The silent bodies no robot of the team can be. A body
     /// found on `v` in round `t` is some robot that stood there silent
     /// then; not one known to be elsewhere later: heard since, on another
     /// vertex, failed on another vertex with its body seen, or the only
@@ -502,10 +499,11 @@ impl<'g> Robot<'g> {
     /// came by to find the vertex free; kept, it would cut off what lies
     /// behind it for good. If a robot does stand there, the next sonar to
     /// pass finds it again, later. Only with the team's roster known.
-    fn phantoms(&self, out: &mut Vec<VertexId>) {
+    fn phantoms(&self) -> Vec<VertexId> {
         let (team, me) = (self.cfg.team, self.cfg.id);
+        let mut out = Vec::new();
         if team == 0 {
-            return;
+            return out;
         }
         let mut bodies: Vec<(VertexId, u32)> = self.map.bodies_found_now().collect();
         bodies.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
@@ -526,6 +524,7 @@ impl<'g> Robot<'g> {
                 _ => {}
             }
         }
+        out
     }
 
     /// Sec. 4.2: robot `id`, standing on `at`, will never answer (declared
@@ -569,13 +568,8 @@ impl<'g> Robot<'g> {
         let mut b = std::mem::take(&mut self.blocked_now);
         b.clear();
         b.extend(self.map.failures_now().filter(|f| unseen || f.seen).map(|f| f.at));
-        let mut phantoms = std::mem::take(&mut self.phantoms_now);
-        phantoms.clear();
-        if self.map.bodies_now().next().is_some() {
-            self.phantoms(&mut phantoms);
-        }
+        let phantoms = if self.map.bodies_now().next().is_some() { self.phantoms() } else { Vec::new() };
         b.extend(self.map.bodies_now().filter(|v| !phantoms.contains(v)));
-        self.phantoms_now = phantoms;
         if parked {
             b.extend(self.parked.iter().map(|p| p.1));
         }
