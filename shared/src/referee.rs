@@ -119,12 +119,7 @@ impl<'w> Referee<'w> {
         &self.visited
     }
 
-    /// Targets found so far by anyone.
-    pub fn found(&self) -> &Bitset {
-        &self.found
-    }
-
-    /// How many targets were found so far.
+    /// How many targets were found so far, by anyone.
     pub fn found_count(&self) -> usize {
         self.found_count
     }

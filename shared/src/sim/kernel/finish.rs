@@ -32,7 +32,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         };
         let cut_off_early = ended == "cut_off" && unvisited_left();
         let complete = match self.cfg.situation {
-            Situation::One => self.stats.stop_round.is_some() && self.referee.found().count() == world.targets.len(),
+            Situation::One => self.stats.stop_round.is_some() && self.referee.found_count() == world.targets.len(),
             Situation::Two if ended == "cut_off" => !cut_off_early,
             Situation::Two if ended == "stop" => !unvisited_left(),
             Situation::Two => false,
@@ -77,7 +77,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             situation: self.cfg.situation.number(),
             rounds: self.round,
             search_time_s,
-            targets_found: self.referee.found().count(),
+            targets_found: self.referee.found_count(),
             targets_total: world.targets.len(),
             collisions: self.collisions,
             coverage,
