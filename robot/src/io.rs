@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::grid::VertexId;
 use crate::map::RobotId;
+use crate::spot::Spot;
 
 /// Simulated time in microseconds.
 pub type Time = u64;
@@ -140,6 +141,11 @@ pub trait Framed {
     /// as the human controller's receiver reads it: the world never
     /// looks (the controller's receiver does, `gridswarm::sim::CONTROLLER`).
     fn carries_stop(&self) -> bool;
+
+    /// A flood's targets and stop (step 8), as the human controller's
+    /// base station reads them to relay what is new to it
+    /// (`crate::params::Broadcast::Controller`); `None` for any other frame.
+    fn flood(&self) -> Option<(Vec<Spot>, bool)>;
 
     /// Its length on the wire in bytes, header included: what a robot
     /// process sends for it. Counted for the experimenter only.

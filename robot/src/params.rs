@@ -62,6 +62,50 @@ pub struct Params {
     /// Step 4's order, who waits for whose choice: see [`Order`].
     #[serde(default)]
     pub order: Order,
+    /// How found targets and the stop reach every robot (step 8): see
+    /// [`Broadcast`].
+    #[serde(default)]
+    pub broadcast: Broadcast,
+}
+
+/// How step 8's "broadcast target positions and the stop signal to all
+/// robots and the human controller" reaches all robots (issue 36, item 1).
+/// Robots flood what they find within `r_c` under both; the difference is
+/// whether the human controller's base station, which hears the whole
+/// area, passes it on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Broadcast {
+    /// The paper's "to all robots": the controller relays every flood that
+    /// tells it something new (a target, the stop) to every robot over its
+    /// own long-range link, with the run's loss, delay and jitter. Every
+    /// algorithm of a sweep, LFP included, then learns found targets the
+    /// same way.
+    #[default]
+    Controller,
+    /// Only the robots' own multi-hop flood within `r_c`: a robot learns a
+    /// target once a chain of robots in range carries it (the project's
+    /// reading before issue 36).
+    Flood,
+}
+
+impl Broadcast {
+    pub const NAMES: [&'static str; 2] = ["controller", "flood"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Broadcast::Controller => "controller",
+            Broadcast::Flood => "flood",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "controller" => Some(Broadcast::Controller),
+            "flood" => Some(Broadcast::Flood),
+            _ => None,
+        }
+    }
 }
 
 /// Who waits for whose choice in step 4 (issue 21, point 5).
@@ -234,6 +278,7 @@ impl Params {
             ru_collisions: RuCollisions::default(),
             slot: SlotRule::default(),
             order: Order::default(),
+            broadcast: Broadcast::default(),
         }
     }
 

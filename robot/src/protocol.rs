@@ -142,6 +142,13 @@ impl Framed for Rc<Frame> {
         Frame::carries_stop(self)
     }
 
+    fn flood(&self) -> Option<(Vec<Spot>, bool)> {
+        match &**self {
+            Frame::Flood { targets, stop, .. } => Some((targets.clone(), *stop)),
+            _ => None,
+        }
+    }
+
     fn wire_len(&self) -> usize {
         Frame::wire_len(self)
     }
@@ -161,6 +168,18 @@ impl Framed for Rc<[u8]> {
                 .and_then(|(_, rest)| postcard::from_bytes::<Frame>(rest))
                 .is_ok_and(|f| f.carries_stop()),
             _ => false,
+        }
+    }
+
+    /// Decoded only when its header says it is a flood; bytes that do not
+    /// decode tell nothing.
+    fn flood(&self) -> Option<(Vec<Spot>, bool)> {
+        if header_of(self)?.kind != KIND_FLOOD {
+            return None;
+        }
+        match postcard::take_from_bytes::<Header>(self).and_then(|(_, rest)| postcard::from_bytes::<Frame>(rest)) {
+            Ok(Frame::Flood { targets, stop, .. }) => Some((targets, stop)),
+            _ => None,
         }
     }
 

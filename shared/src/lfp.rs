@@ -63,7 +63,15 @@
 //! - **Sensing and stop.** A target is found when it lies within `r_st` of a
 //!   robot's position at the start of the run or at the end of a sub-step;
 //!   found targets are broadcast to all. Situation 1 stops when every target
-//!   of the world is found (rule 3). Situation 2: LFP keeps no map, so rule 4
+//!   of the world is found (rule 3). LFP's robots have no radio between
+//!   them; under [`crate::params::Broadcast::Controller`] (the default)
+//!   a find reaches every robot as it reaches the grid robots: a hop to the
+//!   human controller and a hop back ([`crate::sim::controller`]). So a
+//!   robot that finds the last target knows every target at once if it
+//!   found all those of the last round itself, and two hops later if
+//!   another robot found one of them in the same round; the search ends
+//!   when it knows ([`last_news`]). Under `flood` every find is known to
+//!   all at once, as before issue 36. Situation 2: LFP keeps no map, so rule 4
 //!   is replaced by a ground-truth stand-in: stop once every vertex of `Va`
 //!   ([`World::reachable_from`] the starts) has had some sub-step end within
 //!   `a / 2` of it, i.e. a robot stood, to the grid's resolution, on every
@@ -432,7 +440,11 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
     let mut per_round_collisions = Vec::new();
     let mut collisions = 0u32;
     let mut complete = done(&missing, uncovered);
+    // The targets still missing when the last round began.
+    let mut was_missing = Vec::with_capacity(missing.len());
     while !complete && n > 0 && rounds < cfg.max_rounds {
+        was_missing.clear();
+        was_missing.extend_from_slice(&missing);
         let mut rotated = false;
         for (i, r) in robots.iter_mut().enumerate() {
             turned[i] = r.rem <= 0.0;
@@ -529,6 +541,12 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
         complete = done(&missing, uncovered);
     }
 
+    let relayed = prm.broadcast == crate::params::Broadcast::Controller;
+    let search_time_s = if complete && !situation2 && relayed && !last_news(world, &was_missing, &pos, r_st2) {
+        time + 2.0 * prm.t_hop
+    } else {
+        time
+    };
     // The cells `Raster::detected_fraction` counts, marked as the run went.
     let fraction = coverage.as_ref().map(|c| c.fraction());
     let metrics = RunMetrics {
@@ -545,7 +563,7 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
         seed: cfg.seed,
         situation: cfg.situation.number(),
         rounds,
-        search_time_s: time,
+        search_time_s,
         targets_found: world.targets.len() - missing.len(),
         targets_total: world.targets.len(),
         collisions,
@@ -562,6 +580,13 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
         },
         metrics,
     }
+}
+
+/// Whether some robot, at `pos`, found itself every target of `found` (the
+/// last round's finds): it then knows every target at once, the others
+/// having reached it through the controller in earlier rounds.
+fn last_news(world: &World, found: &[u32], pos: &[Point], r_st2: f64) -> bool {
+    pos.iter().any(|&p| found.iter().all(|&t| (world.targets[t as usize] - p).norm_squared() <= r_st2))
 }
 
 #[cfg(test)]

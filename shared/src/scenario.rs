@@ -17,6 +17,7 @@
 //! ru_collisions = "per-pair" # RU's collisions: per-pair (default) | back-off (RuCollisions)
 //! slot = "adaptive"         # what ends a slot: adaptive (default) | fixed (SlotRule)
 //! order = "paper"           # who waits for whose choice: paper (default) | local (Order)
+//! broadcast = "controller"  # how found targets and the stop reach all robots: controller (default) | flood (Broadcast)
 //!
 //! [area]                    # required: a simple polygon, corners in either order
 //! polygon = [[0, 0], [20, 0], [20, 16], [0, 16]]

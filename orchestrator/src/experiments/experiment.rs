@@ -253,6 +253,9 @@ pub(crate) struct Part {
     /// Each cell's coverage against time, over every map.
     pub curves: Vec<Curve>,
     pub claims: Vec<ClaimResult>,
+    /// The same claims judged on each run's last find instead of its end
+    /// (situation 1 only; empty otherwise).
+    pub claims_at_last_find: Vec<ClaimResult>,
     /// The oracle's means and the lower bounds.
     pub refs: crate::refs::Refs,
     pub readings: Vec<sensitivity::Row>,
@@ -291,6 +294,11 @@ impl Part {
             plan.jobs().iter().zip(&records).map(|(j, x)| x.rounds as u64 * opts.robots[j.2] as u64).sum();
         // Paired run by run: run k of every algorithm shares its seed and map.
         let claims = claims::evaluate(&cells, &per_cell);
+        let claims_at_last_find = if scenario.situation == Situation::One {
+            claims_at_last_find(plan.cells(), &per_cell)
+        } else {
+            Vec::new()
+        };
         let (oracle, oracle_runs) = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
         let bound = crate::refs::bounds(&worlds, &starts, &opts.robots, plan.runs, algorithms, scenario.situation);
         let refs = crate::refs::Refs { oracle, oracle_runs, cell_runs: plan.runs * maps.len(), bound };
@@ -323,6 +331,7 @@ impl Part {
             cells,
             curves,
             claims,
+            claims_at_last_find,
             refs,
             readings,
             wall_time_s,
@@ -372,18 +381,25 @@ impl Part {
         )
     }
 
-    /// The claims as claims.txt has them, with the incomplete note.
+    /// The claims as claims.txt has them, with the incomplete note: at
+    /// the search's end, then at the last find.
     pub fn claims_text(&self, opts: &ExperimentOptions) -> String {
-        incomplete_note(&self.cells, opts.max_rounds) + &claims::render(&self.claims)
+        let mut text = incomplete_note(&self.cells, opts.max_rounds) + &claims::render(&self.claims);
+        if !self.claims_at_last_find.is_empty() {
+            text += &format!("\n{LAST_FIND_HEADING}\n{}", claims::render(&self.claims_at_last_find));
+        }
+        text
     }
 
-    /// The claims as the terminal shows them.
+    /// The claims as the terminal shows them; at the last find, one line.
     pub fn shown_claims(&self, opts: &ExperimentOptions) -> String {
-        if opts.verbose {
-            claims::render(&self.claims)
-        } else {
-            claims::render_short(&self.claims)
+        let mut text = if opts.verbose { claims::render(&self.claims) } else { claims::render_short(&self.claims) };
+        if !self.claims_at_last_find.is_empty() {
+            let verdicts: Vec<String> =
+                self.claims_at_last_find.iter().map(|c| format!("({}) {}", c.id, c.verdict.word())).collect();
+            text += &format!("Measured at the last find instead: {}\n", verdicts.join(", "));
         }
+        text
     }
 
     /// Draws fig7.svg (not written).
@@ -471,6 +487,8 @@ impl Part {
             "references": self.refs.json(),
             "sensitivity": self.readings,
             "claims": self.claims,
+            "claims_at_last_find": self.claims_at_last_find,
+            "claims_measures": CLAIMS_MEASURES,
         })
     }
 }
@@ -601,6 +619,7 @@ pub fn record(
     cfg.record_trajectories = false;
     cfg.measure_coverage = coverage;
     let res = runner.run(starts, &cfg);
+    let all_found = res.targets_total > 0 && res.targets_found == res.targets_total;
     RunRecord {
         seed,
         search_time_s: res.search_time_s,
@@ -608,8 +627,26 @@ pub fn record(
         collisions: res.collisions,
         targets_found: res.targets_found,
         complete: res.complete,
+        last_target_s: all_found.then(|| res.metrics.targets_s.last().copied()).flatten(),
         measured: Measured::of(res),
     }
+}
+
+/// What `claims` and `claims_at_last_find` measure (summary.json).
+const CLAIMS_MEASURES: &str = "claims: each run's search time, when a robot's stop ended the search \
+    (search_time_s); claims_at_last_find: when its last target was found (last_target_s), complete runs \
+    that found every target; docs/paper.md, \"Comparing algorithms fairly\"";
+
+/// claims.txt's heading of the claims judged at the last find.
+const LAST_FIND_HEADING: &str = "Measured at the last find (last_target_s) instead of the search's end:";
+
+/// The claims judged on every run's last find ([`RunRecord::at_last_find`]).
+fn claims_at_last_find(cells: impl Iterator<Item = (Policy, usize)>, per_cell: &[&[RunRecord]]) -> Vec<ClaimResult> {
+    let runs: Vec<Vec<RunRecord>> =
+        per_cell.iter().map(|rs| rs.iter().map(RunRecord::at_last_find).collect()).collect();
+    let stats: Vec<CellStats> = cells.zip(&runs).map(|((p, r), rs)| CellStats::of(p, r, rs)).collect();
+    let by_cell: Vec<&[RunRecord]> = runs.iter().map(|r| &r[..]).collect();
+    claims::evaluate(&stats, &by_cell)
 }
 
 /// The sweep's runs in their fixed order: map, then algorithm, then robot
@@ -686,12 +723,13 @@ impl Plan<'_> {
     fn write_runs_csv(&self, w: &mut impl Write, records: &[RunRecord]) -> std::io::Result<()> {
         writeln!(
             w,
-            "algorithm,robots,run,seed,search_time_s,rounds,collisions,targets_found,complete,map,{RUN_METRICS}"
+            "algorithm,robots,run,seed,search_time_s,rounds,collisions,targets_found,complete,map,{RUN_METRICS},\
+             last_target_s"
         )?;
         for ((m, a, r, k), rec) in self.jobs().into_iter().zip(records) {
             writeln!(
                 w,
-                "{},{},{k},{},{:.6},{},{},{},{},{m},{}",
+                "{},{},{k},{},{:.6},{},{},{},{},{m},{},{}",
                 self.algorithms[a].name(),
                 self.robots[r],
                 rec.seed,
@@ -700,7 +738,8 @@ impl Plan<'_> {
                 rec.collisions,
                 rec.targets_found,
                 rec.complete,
-                run_metrics(&rec.measured)
+                run_metrics(&rec.measured),
+                rec.last_target_s.map(|t| format!("{t:.6}")).unwrap_or_default()
             )?;
         }
         Ok(())
@@ -729,7 +768,8 @@ pub const RESULTS_HEADER: &str = "algorithm,robots,runs,completed_runs,mean_sear
                                   oracle_reference_s,oracle_runs,lower_bound_s,\
                                   ci95_collisions,mean_coverage,ci95_coverage,mean_half_coverage_s,ci95_half_coverage_s,\
                                   mean_distance_m,ci95_distance_m,mean_rotations,ci95_rotations,mean_frames,ci95_frames,\
-                                  mean_bytes,ci95_bytes,mean_target_times_s,ci95_target_times_s";
+                                  mean_bytes,ci95_bytes,mean_target_times_s,ci95_target_times_s,\
+                                  mean_last_target_s,ci95_last_target_s";
 
 /// runs.csv's columns of a run's metrics, after its others: per robot,
 /// means over the team; the targets' times as one field, `;` between them.
@@ -760,6 +800,7 @@ fn cell_metrics(c: &CellMetrics) -> String {
     }
     let list = |f: &dyn Fn(&Estimate) -> Option<f64>| c.targets_s.iter().map(|e| n(f(e))).collect::<Vec<_>>().join(";");
     let _ = write!(s, ",{},{}", list(&|e| e.mean), list(&|e| e.ci95));
+    let _ = write!(s, ",{},{}", n(c.last_target_s.mean), n(c.last_target_s.ci95));
     s
 }
 

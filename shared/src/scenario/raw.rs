@@ -10,7 +10,7 @@ use super::{gaps, Scenario, ScenarioError, Starts};
 use crate::geometry::{Circle, Point, Polygon, Shape};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
-use crate::params::{Order, Params, RuCollisions, Situation, SlotRule};
+use crate::params::{Broadcast, Order, Params, RuCollisions, Situation, SlotRule};
 use crate::spot::{Spot, STEPS};
 
 /// A point as written: `[x, y]`, exactly two numbers. A plain `[f64; 2]`
@@ -91,6 +91,7 @@ struct RawParams {
     ru_collisions: Option<String>,
     slot: Option<String>,
     order: Option<String>,
+    broadcast: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -403,6 +404,11 @@ impl RawParams {
         if let Some(name) = self.order {
             p.order = Order::from_name(&name).ok_or_else(|| {
                 ctx.err("params.order", format!("must be one of {}, got `{name}`", Order::NAMES.join(", ")))
+            })?;
+        }
+        if let Some(name) = self.broadcast {
+            p.broadcast = Broadcast::from_name(&name).ok_or_else(|| {
+                ctx.err("params.broadcast", format!("must be one of {}, got `{name}`", Broadcast::NAMES.join(", ")))
             })?;
         }
         Ok(p)

@@ -74,6 +74,9 @@ impl Scenario {
         if p.order != crate::params::Order::Paper {
             let _ = writeln!(s, "order = {}", quoted(p.order.name()));
         }
+        if p.broadcast != crate::params::Broadcast::Controller {
+            let _ = writeln!(s, "broadcast = {}", quoted(p.broadcast.name()));
+        }
         if geometry {
             self.write_geometry(&mut s);
         }

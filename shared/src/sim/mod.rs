@@ -28,6 +28,7 @@
 //! a run is the same whether the robots are function calls
 //! ([`crate::engine`]) or processes (`world-server`).
 
+pub mod controller;
 pub mod kernel;
 pub mod medium;
 #[cfg(test)]
@@ -67,7 +68,8 @@ pub struct WakeCall<P> {
 /// The human controller's receiver as a node of the radio medium (step 8):
 /// it hears the whole area (a base station), each frame on its own link
 /// with the run's loss, delay and jitter, and reads nothing but whether a
-/// frame carries the stop. Its number on the medium's links.
+/// frame carries the stop and what a flood tells ([`controller`]). Its
+/// number on the medium's links.
 pub const CONTROLLER: usize = u32::MAX as usize;
 
 /// The robots as the world sees them: bodies it can wake.

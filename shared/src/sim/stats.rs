@@ -86,6 +86,10 @@ pub struct ProtocolStats {
     /// one (`crate::peer`), so a count here is a fault of the protocol.
     #[serde(default)]
     pub late_motors: u64,
+    /// Floods the human controller relayed to every robot
+    /// ([`crate::params::Broadcast::Controller`]).
+    #[serde(default)]
+    pub relays: u64,
     /// How the run ended: one of [`ENDINGS`].
     pub ended_by: String,
     /// Round and simulated time of the first stop that ends the search.

@@ -4,6 +4,7 @@
 
 use std::rc::Rc;
 
+use super::controller::Controller;
 use super::medium::Medium;
 use super::stats::ProtocolStats;
 use super::watch::{Sent, Watch};
@@ -12,6 +13,7 @@ use crate::geometry::Point;
 use crate::grid::VertexId;
 use crate::map::RobotId;
 use crate::outcome::{Pose, RunConfig, RunResult};
+use crate::protocol::KIND_FLOOD;
 use crate::referee::Referee;
 use crate::world::coverage::Coverage;
 use crate::world::World;
@@ -64,6 +66,10 @@ enum Ev<P> {
     /// A frame carrying the stop, sent in slot `round`, reaches the human controller.
     Heard {
         round: u32,
+    },
+    /// A flood reaches the human controller, which relays it if it is news.
+    Relay {
+        d: Delivery<P>,
     },
 }
 
@@ -119,6 +125,10 @@ pub struct Kernel<'w, P> {
     stop_heard: bool,
     /// Frames carrying a stop on their way to the controller.
     stops_in_flight: u32,
+    /// The human controller's base station, which relays news to every robot.
+    controller: Controller,
+    /// Every robot: who hears the controller's relays on a perfect radio.
+    everyone: Rc<[u32]>,
     /// Slots in a row closed with no robot searching ([`Kernel::quiet_enough`]).
     quiet: u32,
     exchange: Time,
@@ -211,6 +221,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             stop_exhausted: false,
             stop_heard: false,
             stops_in_flight: 0,
+            controller: Controller::new(p.broadcast),
+            everyone: (0..n as u32).collect(),
             quiet: 0,
             exchange,
             hop: micros(p.t_hop),
@@ -364,6 +376,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                     self.ended = Some("stop");
                 }
             }
+            Ev::Relay { d } => self.relay(d),
             Ev::Limit { round } => {
                 if round == self.round && self.slot_open {
                     // A fixed slot ends here by rule; an adaptive one is forced.
@@ -573,10 +586,21 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         b.frames += 1;
         b.bytes += payload.wire_len() as u64;
         let from = r as RobotId;
-        if !self.stop_heard && payload.carries_stop() {
-            self.bots[r].sent_stop = true;
-            let round = payload.header().map_or(self.round, |h| h.round);
-            self.to_controller(r, seq, round, ready, copies);
+        let stop = !self.stop_heard && payload.carries_stop();
+        let flood = self.controller.relays() && payload.header().is_some_and(|h| h.kind == KIND_FLOOD);
+        if stop || flood {
+            let at = self.to_controller(r, seq, ready, copies);
+            if stop {
+                self.bots[r].sent_stop = true;
+                if let Some(at) = at {
+                    self.stops_in_flight += 1;
+                    let round = payload.header().map_or(self.round, |h| h.round);
+                    self.push(at, Ev::Heard { round });
+                }
+            }
+            if let (true, Some(at)) = (flood, at) {
+                self.push(at, Ev::Relay { d: Delivery { from, at, payload: payload.clone() } });
+            }
         }
         if self.medium.radio().is_perfect() {
             // Every receiver hears it one hop later: one event for all.
@@ -620,17 +644,42 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         }
     }
 
-    /// The controller's receiver hears transmission `seq` of robot `r`,
-    /// if its link lets it through.
-    fn to_controller(&mut self, r: usize, seq: u64, round: u32, ready: Time, copies: u8) {
-        let at = if self.medium.radio().is_perfect() {
+    /// When the controller's receiver hears transmission `seq` of robot
+    /// `r`, if its link lets it through.
+    fn to_controller(&self, r: usize, seq: u64, ready: Time, copies: u8) -> Option<Time> {
+        if self.medium.radio().is_perfect() {
             Some(ready + self.hop)
         } else {
             self.medium.fate(r, seq, super::CONTROLLER, ready, copies).arrival
-        };
-        if let Some(at) = at {
-            self.stops_in_flight += 1;
-            self.push(at, Ev::Heard { round });
+        }
+    }
+
+    /// The controller heard flood `d`: if it tells it something new, it
+    /// sends it on, as it was, to every robot over its own link (the sender
+    /// hears its own frame back and drops it, as any receiver would).
+    fn relay(&mut self, d: Delivery<P>) {
+        let Some((targets, stop)) = d.payload.flood() else { return };
+        if !self.controller.news(&targets, stop) {
+            return;
+        }
+        let seq = self.controller.next_seq();
+        self.stats.relays += 1;
+        let copies = (1 + self.world.params.retries).min(u8::MAX as u32) as u8;
+        if self.medium.radio().is_perfect() {
+            let to = self.everyone.clone();
+            self.stats.deliveries += to.len() as u64;
+            self.push(self.now + self.hop, Ev::Broadcast { to, d: Delivery { at: self.now + self.hop, ..d } });
+            return;
+        }
+        for to in 0..self.bots.len() {
+            let fate = self.medium.fate(super::CONTROLLER, seq, to, self.now, copies);
+            self.stats.lost += fate.lost as u64;
+            for at in fate.arrival.into_iter().chain(fate.duplicate) {
+                self.stats.deliveries += 1;
+                let payload = d.payload.clone();
+                self.push(at, Ev::Deliver { to: to as u32, d: Delivery { from: d.from, at, payload } });
+            }
+            self.stats.duplicated += fate.duplicate.is_some() as u64;
         }
     }
 
