@@ -418,6 +418,19 @@ mod tests {
     }
 
     #[test]
+    fn the_controller_reads_a_floods_news_from_frames_and_from_their_bytes() {
+        let flood = Frame::Flood { round: 3, from: 1, targets: vec![spot(70), spot(2)], stop: true };
+        let map = Frame::Map { round: 4, from: 2, at: 9, sent: 0, halted: true, stop: true, map: a_map() };
+        for (f, news) in [(flood, Some((vec![spot(70), spot(2)], true))), (map, None)] {
+            let bytes: Rc<[u8]> = encode(&f).into();
+            assert_eq!(Framed::flood(&Rc::new(f.clone())), news, "{f:?}");
+            assert_eq!(bytes.flood(), news, "{f:?} as bytes");
+        }
+        let garbage: Rc<[u8]> = vec![4, 3, 0x80, 0x80, 0x80].into();
+        assert_eq!(garbage.flood(), None, "a flood header over bytes that do not decode tells nothing");
+    }
+
+    #[test]
     fn a_header_that_lies_about_its_frame_is_refused() {
         let f = &frames()[2];
         let mut bytes = postcard::to_allocvec(&Header { tag: 0, ..f.header() }).unwrap();
