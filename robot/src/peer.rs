@@ -496,11 +496,13 @@ impl<'g> Peer<'g> {
             // Fresh, a robot that hears no map by its window's end cannot
             // tell an empty neighbourhood from a radio slower than its
             // window (it has measured none yet): it listens on to the
-            // widest window before it decides alone.
+            // widest window before it decides alone. RU's robots too: they
+            // choose on the maps they hear as well, and a lone robot is
+            // then the same run, to the microsecond, under RU and rules
+            // (1)&(3) and (1),(2)&(3), as the claims assume (issue 36, item 6).
             let widest = self.cfg.timing.widest();
             let listen_from = if self.sensed_late { now } else { start };
-            let avoids = self.cfg.robot.policy.collision_free();
-            self.fresh_end = if self.fresh && avoids { window_end.max(listen_from + widest) } else { window_end };
+            self.fresh_end = if self.fresh { window_end.max(listen_from + widest) } else { window_end };
             self.phase = Phase::Exchange;
         }
     }
