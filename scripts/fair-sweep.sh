@@ -27,7 +27,7 @@ for s in seeds:
         for c in d.get(key, []):
             rows.setdefault((key, c["id"]), []).append(letter[c["verdict"]])
 print(f"seeds {','.join(seeds)}: H holds, F does not hold, U not decidable at this sample size")
-print(f"{"measure":<28}{'claim':<7}verdicts")
+print(f"{'measure':<28}{'claim':<7}verdicts")
 for (key, cid), v in sorted(rows.items()):
     measure = "search end (search_time_s)" if key == "claims" else "last find (last_target_s)"
     print(f"{measure:<28}({cid})    {''.join(v)}")
