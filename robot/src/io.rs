@@ -147,6 +147,10 @@ pub trait Framed {
     /// (`crate::params::Broadcast::Controller`); `None` for any other frame.
     fn flood(&self) -> Option<(Vec<Spot>, bool)>;
 
+    /// Whether it is a flood, from its kind alone (checked on every
+    /// transmission, so cheaper than [`Framed::flood`]).
+    fn is_flood(&self) -> bool;
+
     /// Its length on the wire in bytes, header included: what a robot
     /// process sends for it. Counted for the experimenter only.
     fn wire_len(&self) -> usize;

@@ -142,6 +142,11 @@ impl Framed for Rc<Frame> {
         Frame::carries_stop(self)
     }
 
+    #[inline]
+    fn is_flood(&self) -> bool {
+        matches!(**self, Frame::Flood { .. })
+    }
+
     fn flood(&self) -> Option<(Vec<Spot>, bool)> {
         match &**self {
             Frame::Flood { targets, stop, .. } => Some((targets.clone(), *stop)),
@@ -169,6 +174,10 @@ impl Framed for Rc<[u8]> {
                 .is_ok_and(|f| f.carries_stop()),
             _ => false,
         }
+    }
+
+    fn is_flood(&self) -> bool {
+        header_of(self).is_some_and(|h| h.kind == KIND_FLOOD)
     }
 
     /// Decoded only when its header says it is a flood; bytes that do not
@@ -425,6 +434,8 @@ mod tests {
             let bytes: Rc<[u8]> = encode(&f).into();
             assert_eq!(Framed::flood(&Rc::new(f.clone())), news, "{f:?}");
             assert_eq!(bytes.flood(), news, "{f:?} as bytes");
+            assert_eq!(Framed::is_flood(&Rc::new(f.clone())), news.is_some(), "{f:?}");
+            assert_eq!(bytes.is_flood(), news.is_some(), "{f:?} as bytes");
         }
         let garbage: Rc<[u8]> = vec![4, 3, 0x80, 0x80, 0x80].into();
         assert_eq!(garbage.flood(), None, "a flood header over bytes that do not decode tells nothing");

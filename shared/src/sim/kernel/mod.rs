@@ -13,7 +13,6 @@ use crate::geometry::Point;
 use crate::grid::VertexId;
 use crate::map::RobotId;
 use crate::outcome::{Pose, RunConfig, RunResult};
-use crate::protocol::KIND_FLOOD;
 use crate::referee::Referee;
 use crate::world::coverage::Coverage;
 use crate::world::World;
@@ -587,7 +586,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         b.bytes += payload.wire_len() as u64;
         let from = r as RobotId;
         let stop = !self.stop_heard && payload.carries_stop();
-        let flood = self.controller.relays() && payload.header().is_some_and(|h| h.kind == KIND_FLOOD);
+        let flood = self.controller.relays() && payload.is_flood();
         if stop || flood {
             let at = self.to_controller(r, seq, ready, copies);
             if stop {
