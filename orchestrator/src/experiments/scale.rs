@@ -21,9 +21,9 @@ use serde_json::{json, Value};
 
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
-use crate::experiment::progress_bar;
 use crate::failures::text_table;
 use crate::panels::{self, Panel, Series};
+use crate::progress::phase as progress_bar;
 use crate::report::{self, Block, Report, Section, Table};
 use crate::run::{self, RunOptions};
 use crate::staging::Staging;
