@@ -131,3 +131,35 @@ fn the_printed_wall_time_is_the_commands() {
     assert!(runs <= command, "{line}");
     assert!((runs - sweep.wall_time_s).abs() < 0.005, "{line}");
 }
+
+/// `experiment readings` is the Fig. 7 sweep over the paper's readings:
+/// its runs get the same budget, and LFP's on the TurtleBot3 map end as
+/// incomplete runs of their cells.
+#[test]
+fn readings_on_the_turtlebot3_map_end_within_the_round_budget() {
+    let out = scratch("readings");
+    let o = gridswarm(&[
+        "experiment",
+        "readings",
+        "--scenario",
+        TURTLEBOT3,
+        "--robots",
+        "2",
+        "--runs",
+        "2",
+        "--turns",
+        "2.5",
+        "--ru",
+        "per-pair",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_ok(&o);
+    let summary: serde_json::Value = serde_json::from_slice(&fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let budget = summary["round_budget"]["per_map"][0][0]["rounds"].as_u64().unwrap();
+    assert_eq!(summary["max_rounds"].as_u64(), Some(budget));
+    let (h, cells) = csv(&out.join("cells.csv"));
+    let lfp = cells.iter().find(|r| field(&h, r, "algorithm") == "lfp").expect("an LFP cell");
+    assert_eq!((field(&h, lfp, "runs"), field(&h, lfp, "completed_runs")), ("2", "0"), "{lfp:?}");
+    assert!(text(&o.stdout).contains(" s wall time ("), "{}", text(&o.stdout));
+}

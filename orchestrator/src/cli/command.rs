@@ -403,9 +403,17 @@ struct Distributed {
     /// 1: the number of targets is known; 2: it is not [default: the scenario's].
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
     situation: Option<u8>,
-    /// A run not stopped after this many rounds ends incomplete.
-    #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
-    max_rounds: u32,
+    /// A run not stopped after this many rounds ends incomplete [default: 100000; `experiment
+    /// readings`: the round budget, 100 rounds per vertex the team can reach, at most 100000].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    max_rounds: Option<u32>,
+}
+
+impl Distributed {
+    /// The round limit of a command without a round budget of its own.
+    fn max_rounds(&self) -> u32 {
+        self.max_rounds.unwrap_or(DEFAULT_MAX_ROUNDS)
+    }
 }
 
 /// What `experiment failures` and `experiment radio` both take.
@@ -431,7 +439,7 @@ impl ProtocolArgs {
             runs,
             seed,
             situation: situation(self.distributed.situation),
-            max_rounds: self.distributed.max_rounds,
+            max_rounds: self.distributed.max_rounds(),
             engine: self.engine,
             out,
             progress: experiment::stderr_is_terminal(),
@@ -492,7 +500,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 scenario,
                 algorithm,
                 situation: situation(d.situation),
-                max_rounds: d.max_rounds,
+                max_rounds: d.max_rounds(),
                 out,
                 progress,
                 transport,
@@ -617,7 +625,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 robots: robots.map(|r| r as usize),
                 seed,
                 situation: situation(d.situation),
-                max_rounds: d.max_rounds,
+                max_rounds: d.max_rounds(),
                 out,
                 json,
             };
