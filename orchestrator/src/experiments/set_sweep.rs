@@ -225,10 +225,14 @@ fn summary(opts: &ExperimentOptions, maps: &[Map], combos: &[Combo]) -> Value {
                 "oracle_reference_s": one["oracle_reference_s"],
                 "references": one["references"],
                 "sensitivity": one["sensitivity"],
+                "max_rounds": one["max_rounds"],
+                "round_budget": one["round_budget"],
             })
         })
         .collect::<Vec<_>>());
-    for k in ["claims", "oracle_reference_s", "references", "sensitivity"] {
+    // A swept `a` changes Va and so the budget: each combination has its own.
+    s["max_rounds"] = json!(combos.iter().map(|c| c.part.budgets.max()).max());
+    for k in ["claims", "oracle_reference_s", "references", "sensitivity", "round_budget"] {
         if let Some(o) = s.as_object_mut() {
             o.remove(k);
         }
