@@ -163,3 +163,15 @@ fn readings_on_the_turtlebot3_map_end_within_the_round_budget() {
     assert_eq!((field(&h, lfp, "runs"), field(&h, lfp, "completed_runs")), ("2", "0"), "{lfp:?}");
     assert!(text(&o.stdout).contains(" s wall time ("), "{}", text(&o.stdout));
 }
+
+/// The help states the budget's rule with the factor the code uses.
+#[test]
+fn the_help_states_the_budget_the_code_uses() {
+    let rule = format!("the round budget, {ROUNDS_PER_VERTEX} rounds per vertex the team can reach, at most 100000");
+    for args in [&["experiment", "--help"][..], &["experiment", "readings", "--help"]] {
+        let o = gridswarm(args);
+        assert_ok(&o);
+        let help = text(&o.stdout).split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(help.contains(&rule), "{args:?}: {help}");
+    }
+}

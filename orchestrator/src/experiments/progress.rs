@@ -6,6 +6,7 @@
 //! ends. Every batch counts its runs into one tally for the process, which
 //! only the ticker reads: one place, whatever experiment makes the runs.
 
+use std::io::Write;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::thread::JoinHandle;
@@ -113,7 +114,11 @@ impl Ticker {
         let (stop, rx) = mpsc::channel::<()>();
         let thread = std::thread::spawn(move || {
             let now = || started.elapsed();
-            let show = |t| eprintln!("{}", line(DONE.load(Ordering::Relaxed), TOTAL.load(Ordering::Relaxed), t));
+            // Not eprintln!: a closed stderr must not panic the thread.
+            let show = |t| {
+                let text = line(DONE.load(Ordering::Relaxed), TOTAL.load(Ordering::Relaxed), t);
+                let _ = writeln!(std::io::stderr(), "{text}");
+            };
             let mut due = Due::new(EVERY);
             let mut shown = false;
             loop {
