@@ -26,8 +26,8 @@ pub use cli::command::main_with;
 pub use cli::{check, faults, robots, simulate};
 pub use error::{Error, Result};
 pub use experiments::{
-    claims, curves, experiment, failures, grids, layouts, maps, radio, readings, refs, scale, seeds, sensitivity,
-    set_sweep, settings, stats, sweep, tally,
+    budget, claims, curves, experiment, failures, grids, layouts, maps, progress, radio, readings, refs, scale, seeds,
+    sensitivity, set_sweep, settings, stats, sweep, tally,
 };
 pub use supervise::{launch, run};
 pub use write::{

@@ -13,14 +13,14 @@
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Instant;
 
 use crate::error::EXIT_INCOMPLETE;
-use crate::experiment::{
-    self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_MAX_ROUNDS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS,
-};
+use crate::experiment::{self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS};
 use crate::failures::{self, FailuresOptions};
 use crate::faults::{FaultFlags, RunBase};
 use crate::grids::{self, GridsOptions};
+use crate::progress::Ticker;
 use crate::radio::{self, RadioOptions};
 use crate::readings::{self, ReadingsOptions};
 use crate::robots::{RobotCounts, MAX_ROBOTS};
@@ -33,6 +33,7 @@ use clap::{Parser, Subcommand};
 use gridswarm::choice::Factory;
 use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
+use gridswarm::scenario::limits::DEFAULT_MAX_ROUNDS;
 use gridswarm::scenario::StartRule;
 
 #[derive(Parser, Debug)]
@@ -113,9 +114,10 @@ enum Command {
         /// Where to write [default: experiment-out, or grids-out with --grids].
         #[arg(long)]
         out: Option<PathBuf>,
-        /// A run not stopped after this many rounds ends incomplete and is left out of the means.
-        #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "grids")]
-        max_rounds: u32,
+        /// A run not stopped after this many rounds ends incomplete and is left out of the means
+        /// [default: the round budget, 100 rounds per vertex the team can reach, at most 100000].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "grids")]
+        max_rounds: Option<u32>,
         /// Compare the triangular, square and hexagonal lattices on the map (Sec. 3).
         #[arg(long)]
         grids: bool,
@@ -401,9 +403,17 @@ struct Distributed {
     /// 1: the number of targets is known; 2: it is not [default: the scenario's].
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
     situation: Option<u8>,
-    /// A run not stopped after this many rounds ends incomplete.
-    #[arg(long, default_value_t = DEFAULT_MAX_ROUNDS, value_parser = clap::value_parser!(u32).range(1..))]
-    max_rounds: u32,
+    /// A run not stopped after this many rounds ends incomplete [default: 100000; `experiment
+    /// readings`: the round budget, 100 rounds per vertex the team can reach, at most 100000].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    max_rounds: Option<u32>,
+}
+
+impl Distributed {
+    /// The round limit of a command without a round budget of its own.
+    fn max_rounds(&self) -> u32 {
+        self.max_rounds.unwrap_or(DEFAULT_MAX_ROUNDS)
+    }
 }
 
 /// What `experiment failures` and `experiment radio` both take.
@@ -429,7 +439,7 @@ impl ProtocolArgs {
             runs,
             seed,
             situation: situation(self.distributed.situation),
-            max_rounds: self.distributed.max_rounds,
+            max_rounds: self.distributed.max_rounds(),
             engine: self.engine,
             out,
             progress: experiment::stderr_is_terminal(),
@@ -490,7 +500,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 scenario,
                 algorithm,
                 situation: situation(d.situation),
-                max_rounds: d.max_rounds,
+                max_rounds: d.max_rounds(),
                 out,
                 progress,
                 transport,
@@ -501,6 +511,10 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
 }
 
 fn run(cli: Cli) -> Result<ExitCode, Error> {
+    // Off a terminal no bar is drawn: an experiment prints a progress line
+    // every 10 s instead, and a last one when it ends (progress.rs).
+    let quiet = matches!(cli.command, Command::Experiment { .. }) && !experiment::stderr_is_terminal();
+    let _ticker = quiet.then(|| Ticker::start(Instant::now()));
     match cli.command {
         Command::Simulate {
             scenario: ScenarioArg { scenario },
@@ -611,7 +625,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 robots: robots.map(|r| r as usize),
                 seed,
                 situation: situation(d.situation),
-                max_rounds: d.max_rounds,
+                max_rounds: d.max_rounds(),
                 out,
                 json,
             };

@@ -19,16 +19,17 @@ use gridswarm::params::Situation;
 use gridswarm::policy::Policy;
 use gridswarm::scenario::{Scenario, StartRule};
 use gridswarm::world::World;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde_json::json;
 
+use crate::budget::Budgets;
 use crate::claims::{self, ClaimResult};
 use crate::contract::{self, Runner};
 use crate::curves::{self, Curve};
 use crate::error::{Error, Result};
 use crate::layouts::Layouts;
 use crate::maps;
+use crate::progress::phase as progress_bar;
 use crate::robots::compress;
 use crate::seeds::run_seed;
 use crate::sensitivity;
@@ -41,8 +42,6 @@ pub const DEFAULT_ALGORITHMS: &str = "lfp,ru,sequential,repulsive";
 pub const DEFAULT_ROBOTS: &str = "1-13";
 pub const DEFAULT_RUNS: u32 = 500;
 pub const DEFAULT_OUT: &str = "experiment-out";
-/// A run not stopped after this many rounds ends incomplete.
-pub const DEFAULT_MAX_ROUNDS: u32 = gridswarm::scenario::limits::DEFAULT_MAX_ROUNDS;
 
 #[derive(Clone, Debug)]
 pub struct ExperimentOptions {
@@ -53,7 +52,8 @@ pub struct ExperimentOptions {
     pub seed: u64,
     pub situation: Option<Situation>,
     pub out: PathBuf,
-    pub max_rounds: u32,
+    /// Every run's round limit; `None`: each cell's round budget ([`budget`]).
+    pub max_rounds: Option<u32>,
     /// Show a progress bar (only sensible when stderr is a terminal).
     pub progress: bool,
     /// Average over this many random maps (`scenario` must be `random:...`).
@@ -78,7 +78,7 @@ impl ExperimentOptions {
             seed: 1,
             situation: None,
             out,
-            max_rounds: DEFAULT_MAX_ROUNDS,
+            max_rounds: None,
             progress: false,
             maps: None,
             verbose: false,
@@ -97,30 +97,15 @@ pub struct Sweep {
     pub robot_rounds: u64,
 }
 
-/// A bar of `len` runs with the elapsed and estimated remaining time on
-/// stderr when `show`; hidden (draws nothing) otherwise.
-pub fn progress_bar(len: u64, show: bool) -> ProgressBar {
-    if !show {
-        return ProgressBar::hidden();
-    }
-    let b = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    b.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} runs, eta {eta}")
-            .expect("static template")
-            .progress_chars("=> "),
-    );
-    // Redraw (elapsed, eta) even while no run finishes: single runs of a
-    // large scenario can take seconds.
-    b.enable_steady_tick(std::time::Duration::from_millis(200));
-    b
-}
-
 /// Whether to draw a progress bar: only for a person watching a terminal.
 pub fn stderr_is_terminal() -> bool {
     std::io::stderr().is_terminal()
 }
 
 pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
+    // The command's clock: the printed wall time covers the maps, the
+    // references, the readings and the files, not only the runs.
+    let started = Instant::now();
     if opts.runs == 0 {
         return Err(Error::Input("--runs must be at least 1".into()));
     }
@@ -140,7 +125,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         }
     }
     if !opts.set.is_empty() {
-        return crate::set_sweep::run(opts, &algorithms, &maps);
+        return crate::set_sweep::run(opts, &algorithms, &maps, started);
     }
     // Before any run, so a bad directory fails at once.
     let stage = Staging::begin(&opts.out)?;
@@ -152,13 +137,12 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
     let spread_note = if several { format!("{}\n", crate::spread::one_line(&spreads)) } else { String::new() };
     let setup = part.setup(opts, &maps);
     let text = format!(
-        "{}{}{}{spread_note}\n{}{}\n{}",
+        "{}{}{}{spread_note}\n{}{}\n",
         if opts.verbose { setup.clone() } else { short_setup(scenario, opts, maps.len()) + &maps_line },
         table(cells, refs),
         refs.note(),
-        incomplete_note(cells, opts.max_rounds),
+        part.incomplete_note(),
         part.shown_claims(opts),
-        ran_line(part.records.len(), *wall_time_s, several, &opts.out),
     );
     // Every file goes into a staging folder renamed into place at the end;
     // if a write fails the table is still shown, then the error.
@@ -191,7 +175,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
             cells,
             claims,
             fig7_svg: &svg,
-            incomplete_note: &incomplete_note(cells, opts.max_rounds),
+            incomplete_note: &part.incomplete_note(),
             wall_time_s: *wall_time_s,
             threads: rayon::current_num_threads(),
             runs_total: part.records.len(),
@@ -206,15 +190,31 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         output::write_text(&out.join("report.html"), &report::render(&page))
     };
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
+    let times = Times { command_s: started.elapsed().as_secs_f64(), runs_s: *wall_time_s };
+    let text = text + &ran_line(part.records.len(), times, several, &opts.out);
     let sweep =
         Sweep { cells: cells.clone(), claims: claims.clone(), wall_time_s: *wall_time_s, robot_rounds: *robot_rounds };
     Ok((sweep, text))
 }
 
-/// The last line of the printed text: what ran and what was written.
-pub(crate) fn ran_line(runs: usize, wall_time_s: f64, several: bool, out: &std::path::Path) -> String {
+/// A sweep's wall times: the whole command's, and the part of it its runs took.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Times {
+    pub command_s: f64,
+    pub runs_s: f64,
+}
+
+impl std::fmt::Display for Times {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:.2} s wall time ({:.2} s of it running the sweep's runs)", self.command_s, self.runs_s)
+    }
+}
+
+/// The last line of the printed text: what ran, how long the command took,
+/// and what was written.
+pub(crate) fn ran_line(runs: usize, times: Times, several: bool, out: &std::path::Path) -> String {
     format!(
-        "{runs} runs in {wall_time_s:.2} s wall time on {} threads; \
+        "{runs} runs; {times} on {} threads; \
          wrote results.csv, runs.csv, coverage.csv, {}fig7.svg, claims.txt, summary.json, report.html in {}\n",
         rayon::current_num_threads(),
         if several { "maps.csv, " } else { "" },
@@ -259,6 +259,8 @@ pub(crate) struct Part {
     /// The oracle's means and the lower bounds.
     pub refs: crate::refs::Refs,
     pub readings: Vec<sensitivity::Row>,
+    /// Every run's round limit.
+    pub budgets: Budgets,
     pub wall_time_s: f64,
     pub robot_rounds: u64,
 }
@@ -270,6 +272,7 @@ impl Part {
         let worlds: Vec<World> = maps.iter().map(|m| m.scenario.world()).collect();
         let fixed =
             maps.iter().zip(&worlds).map(|(m, w)| place(&m.scenario, w, &opts.robots)).collect::<Result<Vec<_>>>()?;
+        let budgets = Budgets::new(opts.max_rounds, &worlds, &fixed);
         let pairs: Vec<(&Scenario, &World)> = maps.iter().map(|m| &m.scenario).zip(&worlds).collect();
         let starts = Layouts::new(opts.starts, &pairs, &opts.robots, fixed, (opts.seed, opts.runs as usize))?;
 
@@ -278,7 +281,7 @@ impl Part {
             Plan { algorithms, robots: &opts.robots, starts: &starts, maps: maps.len(), runs: opts.runs as usize };
         let runners: Vec<Runner> =
             maps.iter().zip(&worlds).map(|(m, w)| Runner::new(w, contract::lfp_params(&m.scenario))).collect();
-        let records = plan.execute(&runners, scenario.situation, opts);
+        let records = plan.execute(&runners, scenario.situation, opts, &budgets);
         let wall_time_s = started.elapsed().as_secs_f64();
 
         let per_map: Vec<Vec<CellStats>> = records
@@ -299,17 +302,18 @@ impl Part {
         } else {
             Vec::new()
         };
-        let (oracle, oracle_runs) = oracle_reference(&plan, &runners, &cells, scenario.situation, opts);
+        let (oracle, oracle_runs) = oracle_reference(&plan, &runners, &cells, scenario.situation, (opts, &budgets));
         let bound = crate::refs::bounds(&worlds, &starts, &opts.robots, plan.runs, algorithms, scenario.situation);
         let refs = crate::refs::Refs { oracle, oracle_runs, cell_runs: plan.runs * maps.len(), bound };
         // On the first map, the sweep's first runs under the other readings.
+        let first_limits = budgets.first_map();
         let sweep = sensitivity::Sweep {
             scenario: &maps[0].scenario,
             world: &worlds[0],
             robots: &opts.robots,
             starts: &starts,
             seed: opts.seed,
-            max_rounds: opts.max_rounds,
+            max_rounds: &first_limits,
         };
         let first = plan.runs.min(sensitivity::RUNS);
         let readings = sensitivity::run(&sweep, algorithms, first, |p, r| {
@@ -334,6 +338,7 @@ impl Part {
             claims_at_last_find,
             refs,
             readings,
+            budgets,
             wall_time_s,
             robot_rounds,
         })
@@ -362,7 +367,7 @@ impl Part {
         let several = opts.maps.is_some();
         let maps_line = if several { maps::summary_line(maps) } else { String::new() };
         format!(
-            "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {}, max {} rounds, {} starts\n\
+            "scenario {} ({} grid), situation {}, {} runs per cell{}, base seed {}, max {}, {} starts\n\
              {maps_line}params: {}\nlfp: {}\n",
             output::shown(&scenario.name),
             scenario.grid.name(),
@@ -374,7 +379,7 @@ impl Part {
                 String::new()
             },
             opts.seed,
-            opts.max_rounds,
+            self.budgets.text(),
             opts.starts,
             serde_json::to_string(&scenario.params).expect("params serialise"),
             serde_json::to_string(&contract::lfp_params(scenario)).expect("lfp params serialise"),
@@ -383,12 +388,17 @@ impl Part {
 
     /// The claims as claims.txt has them, with the incomplete note: at
     /// the search's end, then at the last find.
-    pub fn claims_text(&self, opts: &ExperimentOptions) -> String {
-        let mut text = incomplete_note(&self.cells, opts.max_rounds) + &claims::render(&self.claims);
+    pub fn claims_text(&self, _opts: &ExperimentOptions) -> String {
+        let mut text = self.incomplete_note() + &claims::render(&self.claims);
         if !self.claims_at_last_find.is_empty() {
             text += &format!("\n{LAST_FIND_HEADING}\n{}", claims::render(&self.claims_at_last_find));
         }
         text
+    }
+
+    /// Which cells had runs that hit their round limit.
+    pub fn incomplete_note(&self) -> String {
+        incomplete_note(&self.cells, &self.budgets.text())
     }
 
     /// The claims as the terminal shows them; at the last find, one line.
@@ -473,7 +483,8 @@ impl Part {
             "seed": opts.seed,
             "seed_derivation": "run k with N robots has seed derive(derive(seed, N), k) with gridswarm::rng::derive, \
                 the same for every algorithm (common random numbers: claims compare runs pairwise)",
-            "max_rounds": opts.max_rounds,
+            "max_rounds": self.budgets.max(),
+            "round_budget": self.budgets.json(&self.robots),
             "starts": opts.starts,
             "start_derivation": START_NOTE,
             "transport": super::sweep::Engine::InProcess.transport(),
@@ -534,7 +545,7 @@ fn oracle_reference(
     runners: &[Runner],
     cells: &[CellStats],
     situation: Situation,
-    opts: &ExperimentOptions,
+    (opts, budgets): (&ExperimentOptions, &Budgets),
 ) -> (BTreeMap<usize, f64>, usize) {
     if plan.algorithms.contains(&Policy::Oracle) {
         let means = cells
@@ -548,18 +559,22 @@ fn oracle_reference(
     let jobs: Vec<(usize, usize, usize)> = (0..runners.len())
         .flat_map(|m| (0..plan.robots.len()).flat_map(move |r| (0..runs).map(move |k| (m, r, k))))
         .collect();
+    // Counted in the progress lines, drawn as no bar of its own.
+    let bar = progress_bar(jobs.len() as u64, false);
     let times: Vec<(usize, Option<f64>)> = jobs
         .par_iter()
         .map(|&(m, r, k)| {
             let seed = run_seed(opts.seed, plan.robots[r], (m * plan.runs + k) as u64);
             let mut cfg = RunConfig::new(Policy::Oracle, seed, situation);
-            cfg.max_rounds = opts.max_rounds;
+            cfg.max_rounds = budgets.of(m, r);
             cfg.record_trajectories = false;
             cfg.measure_coverage = false;
             let res = runners[m].run(plan.starts.of(m, r, k), &cfg);
+            bar.inc(1);
             (r, res.complete.then_some(res.search_time_s))
         })
         .collect();
+    bar.finish_and_clear();
     let mut out = BTreeMap::new();
     for (r, &n) in plan.robots.iter().enumerate() {
         let done: Vec<f64> = times.iter().filter(|t| t.0 == r).filter_map(|t| t.1).collect();
@@ -700,7 +715,13 @@ impl Plan<'_> {
     /// Runs everything on all cores. `collect` keeps the job order whatever
     /// thread ran a job, and the statistics are summed in that order, so the
     /// output does not depend on scheduling.
-    fn execute(&self, runners: &[Runner], situation: Situation, opts: &ExperimentOptions) -> Vec<RunRecord> {
+    fn execute(
+        &self,
+        runners: &[Runner],
+        situation: Situation,
+        opts: &ExperimentOptions,
+        budgets: &Budgets,
+    ) -> Vec<RunRecord> {
         let jobs = self.jobs();
         let bar = progress_bar(jobs.len() as u64, opts.progress);
         let records = jobs
@@ -710,7 +731,7 @@ impl Plan<'_> {
                 // continues the run index, so no two runs share a seed.
                 let seed = run_seed(opts.seed, self.robots[r], (m * self.runs + k) as u64);
                 let starts = self.starts.of(m, r, k);
-                let rec = record(&runners[m], starts, self.algorithms[a], seed, situation, opts.max_rounds, true);
+                let rec = record(&runners[m], starts, self.algorithms[a], seed, situation, budgets.of(m, r), true);
                 bar.inc(1);
                 rec
             })
@@ -746,9 +767,9 @@ impl Plan<'_> {
     }
 }
 
-/// Incomplete runs hit the round limit and are left out of the means, which
-/// biases them down; say where that happened.
-pub fn incomplete_note(cells: &[CellStats], max_rounds: u32) -> String {
+/// Incomplete runs hit the round limit (`limit`, in words) and are left out
+/// of the means, which biases them down; say where that happened.
+pub fn incomplete_note(cells: &[CellStats], limit: &str) -> String {
     let short: Vec<String> = cells
         .iter()
         .filter(|c| c.completed_runs < c.runs)
@@ -758,7 +779,8 @@ pub fn incomplete_note(cells: &[CellStats], max_rounds: u32) -> String {
         return String::new();
     }
     format!(
-        "note: cells with runs that did not finish within {max_rounds} rounds (means are over completed runs): {}\n",
+        "note: cells with runs that did not finish within {limit}; they are incomplete runs, left out of the \
+         means: {}\n",
         short.join("; ")
     )
 }

@@ -17,6 +17,7 @@ use serde_json::json;
 
 use crate::claims::Verdict;
 use crate::error::{Error, Result};
+use crate::experiment::Times;
 use crate::faults::FaultPlan;
 use crate::panels::{self, Panel, Series};
 use crate::report::{self, Block, Claim, Report, Section, Table};
@@ -212,6 +213,8 @@ fn jobs(opts: &FailuresOptions, robots: usize, runs: u32) -> Vec<(usize, u32, Jo
 
 /// Runs the experiment; returns the rows and the text for stdout.
 pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
+    // The command's clock, for the wall time it prints.
+    let started = std::time::Instant::now();
     let (scenario, robots) = prepare(opts)?;
     let runs_per = opts.protocol.runs_per(DEFAULT_RUNS, DEFAULT_RUNS_DISTRIBUTED);
     // Before any run: an unwritable --out fails now, not after the runs.
@@ -226,7 +229,8 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
     let rows: Vec<FailureRow> =
         opts.killed.iter().map(|&k| FailureRow { killed: k, stats: sweep::stats_at(&runs, &k) }).collect();
     let dir = stage.path().to_path_buf();
-    let page = Page { dir: &dir, opts, scenario: &scenario, robots, runs_per, wall_time_s, runs: &runs, rows: &rows };
+    let page =
+        Page { dir: &dir, opts, scenario: &scenario, robots, runs_per, wall_time_s, started, runs: &runs, rows: &rows };
     // The files go in whole or not at all; if they cannot, the table is
     // still shown before the error.
     page.write().and_then(|()| stage.commit()).inspect_err(|_| print!("{}", page.text()))?;
@@ -241,7 +245,9 @@ struct Page<'a> {
     scenario: &'a gridswarm::scenario::Scenario,
     robots: usize,
     runs_per: u32,
+    /// The runs' wall time; `started` the command's start.
     wall_time_s: f64,
+    started: std::time::Instant,
     runs: &'a [(usize, u32, ProtoRun)],
     rows: &'a [FailureRow],
 }
@@ -313,7 +319,7 @@ impl Page<'_> {
         Report {
             title: format!("Failures: {} scenario, {} robots", crate::output::shown(&self.scenario.name), self.robots),
             subtitle: format!(
-                "{} killed, {} runs each, base seed {}; {} runs in {:.1} s wall time ({})",
+                "{} killed, {} runs each, base seed {}; the {} runs took {:.1} s of wall time ({})",
                 crate::robots::compress(&self.opts.killed).replace('-', "–"),
                 self.runs_per,
                 self.opts.protocol.seed,
@@ -344,7 +350,7 @@ impl Page<'_> {
     fn text(&self) -> String {
         format!(
             "failures: scenario {}, {} robots, algorithm {}, {} runs per count, base seed {}, engine {}\n{}\n\
-             {} runs in {:.1} s; wrote failures.csv, failures-runs.csv, failures.svg, report.html, provenance.json in {}\n",
+             {} runs; {}; wrote failures.csv, failures-runs.csv, failures.svg, report.html, provenance.json in {}\n",
             crate::output::shown(&self.scenario.name),
             self.robots,
             self.opts.protocol.algorithm,
@@ -353,7 +359,7 @@ impl Page<'_> {
             self.opts.protocol.engine.name(),
             text_table(&table(self.rows)),
             self.runs.len(),
-            self.wall_time_s,
+            Times { command_s: self.started.elapsed().as_secs_f64(), runs_s: self.wall_time_s },
             self.opts.protocol.out.display()
         )
     }

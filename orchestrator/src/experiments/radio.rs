@@ -17,6 +17,7 @@ use gridswarm::sim::Radio;
 use serde_json::json;
 
 use crate::error::{Error, Result};
+use crate::experiment::Times;
 use crate::faults::{self, FaultPlan};
 use crate::panels::{self, Panel, Series};
 use crate::report::{self, keyed_text_table, Block, Report, Section, Table};
@@ -260,6 +261,8 @@ fn prepare(opts: &RadioOptions) -> Result<gridswarm::scenario::Scenario> {
 
 /// Runs the experiment; returns the rows and the text for stdout.
 pub fn run(opts: &RadioOptions) -> Result<(Vec<RadioRow>, String)> {
+    // The command's clock, for the wall time it prints.
+    let started = std::time::Instant::now();
     let scenario = prepare(opts)?;
     let runs_per = opts.protocol.runs_per(DEFAULT_RUNS, DEFAULT_RUNS_DISTRIBUTED);
     // Before any run: an unwritable --out fails now, not after the runs.
@@ -275,7 +278,7 @@ pub fn run(opts: &RadioOptions) -> Result<(Vec<RadioRow>, String)> {
     let rows: Vec<RadioRow> =
         points(opts).into_iter().map(|p| RadioRow { point: p, stats: sweep::stats_at(&runs, &p) }).collect();
     let dir = stage.path().to_path_buf();
-    let page = Page { dir: &dir, opts, scenario: &scenario, runs_per, wall_time_s, runs: &runs, rows: &rows };
+    let page = Page { dir: &dir, opts, scenario: &scenario, runs_per, wall_time_s, started, runs: &runs, rows: &rows };
     // The files go in whole or not at all; if they cannot, the table is
     // still shown before the error.
     page.write().and_then(|()| stage.commit()).inspect_err(|_| print!("{}", page.text()))?;
@@ -289,7 +292,9 @@ struct Page<'a> {
     opts: &'a RadioOptions,
     scenario: &'a gridswarm::scenario::Scenario,
     runs_per: u32,
+    /// The runs' wall time; `started` the command's start.
     wall_time_s: f64,
+    started: std::time::Instant,
     runs: &'a [(Point, u32, ProtoRun)],
     rows: &'a [RadioRow],
 }
@@ -356,7 +361,7 @@ impl Page<'_> {
         Report {
             title: format!("Radio loss: {} scenario", crate::output::shown(&self.scenario.name)),
             subtitle: format!(
-                "{} points, {} runs each, base seed {}; {} runs in {:.1} s wall time ({})",
+                "{} points, {} runs each, base seed {}; the {} runs took {:.1} s of wall time ({})",
                 self.rows.len(),
                 self.runs_per,
                 self.opts.protocol.seed,
@@ -388,7 +393,7 @@ impl Page<'_> {
     fn text(&self) -> String {
         format!(
             "radio: scenario {}, algorithm {}, {} runs per point, base seed {}, engine {}\n{}\n\
-             {} runs in {:.1} s; wrote radio.csv, radio-runs.csv, radio.svg, report.html, provenance.json in {}\n",
+             {} runs; {}; wrote radio.csv, radio-runs.csv, radio.svg, report.html, provenance.json in {}\n",
             crate::output::shown(&self.scenario.name),
             self.opts.protocol.algorithm,
             self.runs_per,
@@ -396,7 +401,7 @@ impl Page<'_> {
             self.opts.protocol.engine.name(),
             keyed_text_table(&table(self.rows), 3),
             self.runs.len(),
-            self.wall_time_s,
+            Times { command_s: self.started.elapsed().as_secs_f64(), runs_s: self.wall_time_s },
             self.opts.protocol.out.display()
         )
     }

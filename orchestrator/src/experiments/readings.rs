@@ -28,13 +28,15 @@ use plotters::style::RGBColor;
 use rayon::prelude::*;
 use serde_json::json;
 
+use crate::budget::Budgets;
 use crate::claims::{self, ClaimResult, Verdict};
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
-use crate::experiment::{place, progress_bar, record};
+use crate::experiment::{place, record, Times};
 use crate::heatmap::{self, Cell, Heat};
 use crate::layouts::Layouts;
 use crate::output;
+use crate::progress::phase as progress_bar;
 use crate::provenance;
 use crate::report::{self, Block, Claim, Report, Section, Table};
 use crate::seeds::run_seed;
@@ -57,7 +59,8 @@ pub struct ReadingsOptions {
     pub ru: Vec<RuCollisions>,
     pub turns: Vec<Turn>,
     pub situation: Option<Situation>,
-    pub max_rounds: u32,
+    /// Every run's round limit; `None`: the round budget of its robot count ([`Budgets`]).
+    pub max_rounds: Option<u32>,
     pub out: PathBuf,
     pub progress: bool,
     /// Where the robots start: the scenario's layout, or drawn per run.
@@ -137,6 +140,8 @@ pub struct Readings {
 const CLAIM_NAMES: [&str; 4] = ["(a)", "(b)", "(c)", "all three"];
 
 pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
+    // The command's clock, for the wall time it prints.
+    let started = Instant::now();
     check(opts)?;
     let mut scenario = contract::load_scenario(&opts.scenario)?;
     if let Some(s) = opts.situation {
@@ -147,6 +152,7 @@ pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
     let worlds: Vec<World> = opts.ru.iter().map(|&r| with_ru(&scenario, r).world()).collect();
     let base_world = scenario.world();
     let fixed = place(&scenario, &base_world, &opts.robots)?;
+    let budgets = Budgets::new(opts.max_rounds, std::slice::from_ref(&base_world), std::slice::from_ref(&fixed));
     // One set of layouts per base seed; the RU readings' worlds differ from
     // the base world in a parameter only, so its vertices are theirs too.
     let starts = (opts.seeds.iter())
@@ -171,10 +177,10 @@ pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
             Runner::new(world, lfp)
         })
         .collect();
-    let started = Instant::now();
-    let records = execute(opts, &curves, &runners, &starts, scenario.situation);
-    let wall_time_s = started.elapsed().as_secs_f64();
-    let grid = Grid { opts, curves: &curves, records: &records };
+    let runs_started = Instant::now();
+    let records = execute(opts, &curves, &runners, &starts, (scenario.situation, &budgets));
+    let wall_time_s = runs_started.elapsed().as_secs_f64();
+    let grid = Grid { opts, curves: &curves, records: &records, budgets: &budgets };
     let outcomes = grid.outcomes();
     let found = grid.summarise(&outcomes, wall_time_s);
     let text = grid.text(&scenario, &found);
@@ -195,7 +201,7 @@ pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
                 "ru": opts.ru,
                 "turns": opts.turns,
                 "situation": scenario.situation.number(),
-                "max_rounds": opts.max_rounds,
+                "max_rounds": budgets.max(),
                 "params": scenario.params,
                 "lfp": scenario.lfp,
             }),
@@ -209,6 +215,14 @@ pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
         output::write_text(&out.join("report.html"), &report::render(&page))
     };
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
+    let times = Times { command_s: started.elapsed().as_secs_f64(), runs_s: found.wall_time_s };
+    let text = format!(
+        "{text}{} runs; {times} on {} threads; wrote readings.csv, cells.csv, claims.txt, readings.svg, \
+         summary.json, report.html in {}\n",
+        grid.records.len(),
+        rayon::current_num_threads(),
+        opts.out.display()
+    );
     Ok((found, text))
 }
 
@@ -264,7 +278,7 @@ fn execute(
     curves: &[Curve],
     runners: &[Runner],
     starts: &[Layouts],
-    situation: Situation,
+    (situation, budgets): (Situation, &Budgets),
 ) -> Vec<RunRecord> {
     let (nc, nr, runs) = (curves.len(), opts.robots.len(), opts.runs as usize);
     let jobs: Vec<(usize, usize, usize, usize)> = (0..opts.seeds.len())
@@ -276,7 +290,7 @@ fn execute(
         .map(|&(s, c, r, k)| {
             let seed = run_seed(opts.seeds[s], opts.robots[r], k as u64);
             let rec =
-                record(&runners[c], starts[s].of(0, r, k), curves[c].policy, seed, situation, opts.max_rounds, false);
+                record(&runners[c], starts[s].of(0, r, k), curves[c].policy, seed, situation, budgets.of(0, r), false);
             bar.inc(1);
             rec
         })
@@ -290,6 +304,7 @@ struct Grid<'a> {
     opts: &'a ReadingsOptions,
     curves: &'a [Curve],
     records: &'a [RunRecord],
+    budgets: &'a Budgets,
 }
 
 impl Grid<'_> {
@@ -389,15 +404,6 @@ impl Grid<'_> {
         s += &report::text_table(&self.verdict_table(found));
         s += "\n";
         s += &self.region_text(found);
-        let _ = writeln!(
-            s,
-            "{} runs in {:.1} s wall time on {} threads; wrote readings.csv, cells.csv, claims.txt, readings.svg, \
-             summary.json, report.html in {}",
-            self.records.len(),
-            found.wall_time_s,
-            rayon::current_num_threads(),
-            o.out.display()
-        );
         s
     }
 
@@ -534,7 +540,8 @@ impl Grid<'_> {
                 every algorithm and reading (as gridswarm experiment)",
             "ru_readings": o.ru.iter().map(|r| r.name()).collect::<Vec<_>>(),
             "turns": o.turns.iter().map(|&t| turn_name(t)).collect::<Vec<_>>(),
-            "max_rounds": o.max_rounds,
+            "max_rounds": self.budgets.max(),
+            "round_budget": self.budgets.json(&o.robots),
             "starts": o.starts,
             "params": varied(json!(scenario.params), "ru_collisions", "varied: see ru_readings"),
             "lfp": varied(json!(scenario.lfp), "turn", "varied: see turns"),
@@ -609,7 +616,7 @@ impl Grid<'_> {
         ));
         Report {
             title: "Fig. 7's claims under the paper's readings".into(),
-            subtitle: format!("{} runs in {:.1} s", self.records.len(), found.wall_time_s),
+            subtitle: format!("the {} runs took {:.1} s of wall time", self.records.len(), found.wall_time_s),
             sections,
         }
     }

@@ -21,9 +21,10 @@ use serde_json::{json, Value};
 
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
-use crate::experiment::progress_bar;
+use crate::experiment::Times;
 use crate::failures::text_table;
 use crate::panels::{self, Panel, Series};
+use crate::progress::phase as progress_bar;
 use crate::report::{self, Block, Report, Section, Table};
 use crate::run::{self, RunOptions};
 use crate::staging::Staging;
@@ -353,6 +354,8 @@ fn time_in_process(
 
 /// Runs the experiment; returns the rows and the text for stdout.
 pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
+    // The command's clock, for the wall time it prints.
+    let command = Instant::now();
     if opts.runs == 0 {
         return Err(Error::Usage("--runs must be at least 1".into()));
     }
@@ -506,7 +509,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
     let mut page = Report {
         title: "Scaling: one process per robot".into(),
         subtitle: format!(
-            "robots {}, {} run(s) each, base seed {}, {} cores; {} distributed runs in {:.1} s wall time",
+            "robots {}, {} run(s) each, base seed {}, {} cores; the {} distributed runs took {:.1} s of wall time",
             opts.robots.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(", "),
             opts.runs,
             opts.seed,
@@ -549,13 +552,14 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
     stage.commit()?;
     let text = format!(
         "scale: algorithm {}, robots {}, {} run(s) each, base seed {}\n{}\n\
-         {} runs in {wall_time_s:.1} s; wrote scale.csv, scale-runs.csv, scale.svg, report.html, provenance.json in {}\n",
+         {} runs; {}; wrote scale.csv, scale-runs.csv, scale.svg, report.html, provenance.json in {}\n",
         opts.algorithm,
         opts.robots.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(","),
         opts.runs,
         opts.seed,
         text_table(&tab),
         runs.len(),
+        Times { command_s: command.elapsed().as_secs_f64(), runs_s: wall_time_s },
         opts.out.display()
     );
     Ok((rows, text))

@@ -67,14 +67,15 @@ const ALTERNATIVES: [Alternative; 5] = [
 ];
 
 /// The sweep whose readings are varied: its first map's scenario and
-/// world, starts (map 0's of [`Layouts`]), seed and round limit.
+/// world, starts (map 0's of [`Layouts`]), seed and round limits (one per
+/// robot count, as the sweep's runs on map 0 have them).
 pub struct Sweep<'a> {
     pub scenario: &'a Scenario,
     pub world: &'a World,
     pub robots: &'a [usize],
     pub starts: &'a Layouts,
     pub seed: u64,
-    pub max_rounds: u32,
+    pub max_rounds: &'a [u32],
 }
 
 /// Every alternative reading of an algorithm the sweep ran, at every robot
@@ -100,12 +101,15 @@ pub fn run(
         let own_world = (other.params != scenario.params).then(|| other.world());
         let changed = Runner::new(own_world.as_ref().unwrap_or(sweep.world), other.lfp);
         for (r, &n) in sweep.robots.iter().enumerate() {
+            // Counted in the progress lines, drawn as no bar of its own.
+            let bar = crate::progress::phase(runs as u64, false);
             let times: Vec<f64> = (0..runs)
                 .into_par_iter()
                 .filter_map(|k| {
-                    let cfg =
-                        config(alt.algorithm, run_seed(sweep.seed, n, k as u64), scenario.situation, sweep.max_rounds);
+                    let seed = run_seed(sweep.seed, n, k as u64);
+                    let cfg = config(alt.algorithm, seed, scenario.situation, sweep.max_rounds[r]);
                     let res = changed.run(sweep.starts.of(0, r, k), &cfg);
+                    bar.inc(1);
                     res.complete.then_some(res.search_time_s)
                 })
                 .collect();

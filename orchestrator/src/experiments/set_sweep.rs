@@ -6,12 +6,14 @@
 //! between two combinations comes from the values alone. It never changes
 //! how one sweep runs or what a sweep without `--set` writes.
 
+use std::time::Instant;
+
 use serde_json::{json, Value};
 
 use gridswarm::policy::Policy;
 
 use crate::error::{Error, Result};
-use crate::experiment::{fig_title, incomplete_note, provenance_of, results_csv, ExperimentOptions, Part, Sweep};
+use crate::experiment::{fig_title, provenance_of, results_csv, ExperimentOptions, Part, Sweep, Times};
 use crate::maps::Map;
 use crate::report::{self, Block, Report, Section, Table};
 use crate::settings::{self, Setting};
@@ -34,7 +36,8 @@ impl Combo {
 /// Runs every combination on `maps` (the scenario as loaded) and writes
 /// the files of the whole grid. Every combination is checked before the
 /// first run, so a bad value fails at once.
-pub fn run(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[Map]) -> Result<(Sweep, String)> {
+/// `started` is the command's start, for the wall time it prints.
+pub fn run(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[Map], started: Instant) -> Result<(Sweep, String)> {
     if opts.maps.is_some() {
         return Err(Error::Usage("--set cannot be combined with --maps yet: sweep one map at a time".into()));
     }
@@ -59,9 +62,7 @@ pub fn run(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[Map]) -> Res
     let wall_time_s: f64 = combos.iter().map(|c| c.part.wall_time_s).sum();
     let figures = (1..=combos.len()).map(|i| format!("fig7-{i}.svg")).collect::<Vec<_>>();
     let text = format!(
-        "scenario {}, {} runs per cell, base seed {}, {} combinations of {} (parameters in summary.json)\n{}{}\n{}\
-         {runs} runs in {wall_time_s:.2} s wall time on {} threads; wrote results.csv, runs.csv, {}, claims.txt, \
-         summary.json, report.html in {}\n",
+        "scenario {}, {} runs per cell, base seed {}, {} combinations of {} (parameters in summary.json)\n{}{}\n{}",
         output::shown(&maps[0].scenario.name),
         opts.runs,
         opts.seed,
@@ -70,12 +71,6 @@ pub fn run(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[Map]) -> Res
         report::keyed_text_table(&terminal_table(&opts.set, &combos), opts.set.len() + 2),
         combos[0].part.refs.note(),
         combos.iter().map(|c| format!("{}:\n{}", c.name(&opts.set), c.part.shown_claims(opts))).collect::<String>(),
-        rayon::current_num_threads(),
-        match figures.len() {
-            1 => figures[0].clone(),
-            n => format!("{} .. {}", figures[0], figures[n - 1]),
-        },
-        opts.out.display()
     );
     let out = &stage.path().to_path_buf();
     let write = || -> Result<()> {
@@ -105,6 +100,18 @@ pub fn run(opts: &ExperimentOptions, algorithms: &[Policy], maps: &[Map]) -> Res
         output::write_text(&out.join("report.html"), &report::render(&page))
     };
     write().and_then(|()| stage.commit()).inspect_err(|_| print!("{text}"))?;
+    // Timed once the files are written: the whole command's wall time.
+    let times = Times { command_s: started.elapsed().as_secs_f64(), runs_s: wall_time_s };
+    let text = format!(
+        "{text}{runs} runs; {times} on {} threads; wrote results.csv, runs.csv, {}, claims.txt, \
+         summary.json, report.html in {}\n",
+        rayon::current_num_threads(),
+        match figures.len() {
+            1 => figures[0].clone(),
+            n => format!("{} .. {}", figures[0], figures[n - 1]),
+        },
+        opts.out.display()
+    );
     let sweep = Sweep {
         cells: combos.iter().flat_map(|c| c.part.cells.clone()).collect(),
         claims: combos.iter().flat_map(|c| c.part.claims.clone()).collect(),
@@ -218,10 +225,14 @@ fn summary(opts: &ExperimentOptions, maps: &[Map], combos: &[Combo]) -> Value {
                 "oracle_reference_s": one["oracle_reference_s"],
                 "references": one["references"],
                 "sensitivity": one["sensitivity"],
+                "max_rounds": one["max_rounds"],
+                "round_budget": one["round_budget"],
             })
         })
         .collect::<Vec<_>>());
-    for k in ["claims", "oracle_reference_s", "references", "sensitivity"] {
+    // A swept `a` changes Va and so the budget: each combination has its own.
+    s["max_rounds"] = json!(combos.iter().map(|c| c.part.budgets.max()).max());
+    for k in ["claims", "oracle_reference_s", "references", "sensitivity", "round_budget"] {
         if let Some(o) = s.as_object_mut() {
             o.remove(k);
         }
@@ -260,7 +271,7 @@ fn page(opts: &ExperimentOptions, summary: &Value, combos: &[Combo], svgs: &[Str
                       confidence intervals."
                 .into(),
         }];
-        let note = incomplete_note(&c.part.cells, opts.max_rounds);
+        let note = c.part.incomplete_note();
         if !note.trim().is_empty() {
             blocks.push(Block::Text(note.trim().to_string()));
         }
@@ -278,7 +289,7 @@ fn page(opts: &ExperimentOptions, summary: &Value, combos: &[Combo], svgs: &[Str
             summary["scenario"].as_str().unwrap_or("?")
         ),
         subtitle: format!(
-            "{} combinations, {} runs per cell, base seed {}; {} runs in {:.2} s wall time on {} threads",
+            "{} combinations, {} runs per cell, base seed {}; the {} runs took {:.2} s of wall time on {} threads",
             combos.len(),
             opts.runs,
             opts.seed,

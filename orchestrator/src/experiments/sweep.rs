@@ -19,8 +19,8 @@ use rayon::prelude::*;
 
 use crate::contract::{self, Runner};
 use crate::error::{Error, Result};
-use crate::experiment::progress_bar;
 use crate::faults::{FaultPlan, RunBase};
+use crate::progress::phase as progress_bar;
 use crate::run;
 use crate::tally::{ProtoRun, ProtoStats};
 

@@ -496,7 +496,7 @@ pub fn fig7(x: &Fig7Inputs) -> Report {
             None => format!("Fig. 7 sweep: {} scenario", get("scenario")),
         },
         subtitle: format!(
-            "{} runs per cell{}, base seed {}, situation {}; {} runs in {:.2} s wall time on {} threads; \
+            "{} runs per cell{}, base seed {}, situation {}; the {} runs took {:.2} s of wall time on {} threads; \
              claims: {holds} of {evaluated} evaluated hold",
             get("runs"),
             if maps.is_some() { " and map" } else { "" },
