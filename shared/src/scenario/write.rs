@@ -74,6 +74,10 @@ impl Scenario {
         if p.order != crate::params::Order::Paper {
             let _ = writeln!(s, "order = {}", quoted(p.order.name()));
         }
+        // Likewise: every scenario keeps its hash while the step is on.
+        if !p.survivor_step {
+            let _ = writeln!(s, "survivor_step = false");
+        }
         if geometry {
             self.write_geometry(&mut s);
         }
