@@ -536,39 +536,51 @@ fn experiment_failures_runs_in_process_and_writes_its_files() {
     assert_ok(&o);
     let text = stdout(&o);
     assert!(text.contains("engine in-process") && text.contains("killed") && text.contains("delay (rounds)"), "{text}");
-    for f in ["failures.csv", "failures-runs.csv", "failures.svg", "report.html"] {
+    assert!(text.contains("paper's rules") && text.contains("with survivor step"), "{text}");
+    for f in ["failures.csv", "failures-runs.csv", "failures.svg", "report.html", "scenario-survivor-step-off.toml"] {
         assert!(d.join(f).is_file(), "{f} missing");
     }
     let csv = fs::read_to_string(d.join("failures.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
-    assert_eq!(rows.len(), 3, "{csv}");
+    // The paper's rules, then the survivor step, each at 0, 1 and 2 killed.
+    assert_eq!(rows.len(), 6, "{csv}");
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no {name} in {header:?}"));
     let cell = |row: usize, name: &str| -> f64 { rows[row][col(name)].parse().unwrap_or(f64::NAN) };
-    for (k, row) in rows.iter().enumerate() {
-        assert_eq!(row[0], k.to_string());
-        assert_eq!(cell(k, "runs"), 30.0);
-        assert_eq!(cell(k, "collisions"), 0.0, "{csv}");
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row[..2], [["off", "on"][i / 3], &(i % 3).to_string()], "{csv}");
+        assert_eq!(cell(i, "runs"), 30.0);
+        assert_eq!(cell(i, "collisions"), 0.0, "{csv}");
     }
+    // With nobody killed the step never acts: the same runs under both rules.
+    assert_eq!(rows[0][2..], rows[3][2..], "{csv}");
     assert_eq!(cell(0, "failures_injected"), 0.0);
+    // The same seeds, so the same crashes, under both rules.
+    assert_eq!(cell(2, "failures_injected"), cell(5, "failures_injected"), "{csv}");
     // Every crash falls inside the search (rounds 1-20 of runs that take longer) or not at all.
     assert!(cell(2, "failures_injected") > 30.0 && cell(2, "failures_injected") <= 60.0, "{csv}");
     assert!(cell(2, "failures_detected") > 0.0 && cell(2, "mean_detection_delay_s") > 0.0, "{csv}");
     assert_eq!(cell(1, "mean_false_suspicions"), 0.0, "{csv}");
     let runs = fs::read_to_string(d.join("failures-runs.csv")).unwrap();
-    assert_eq!(runs.lines().count(), 1 + 90);
-    // Any run is `simulate` with the same seed and --kill-random.
+    assert_eq!(runs.lines().count(), 1 + 180);
+    // Any run is `simulate` with the same seed and --kill-random, on the
+    // scenario the experiment wrote for the paper's rules or on `paper`.
     let head: Vec<&str> = runs.lines().next().unwrap().split(',').collect();
-    let run: Vec<&str> = runs.lines().find(|l| l.starts_with("2,")).unwrap().split(',').collect();
-    let field = |name: &str| run[head.iter().position(|h| *h == name).unwrap()];
-    let v = simulate_json(&["--robots", "6", "--seed", field("seed"), "--kill-random", "2"]);
-    assert_eq!(v["rounds"].to_string(), field("rounds"));
-    assert_eq!(format!("{:.6}", num(&v, "search_time_s")), field("search_time_s"));
-    assert_eq!(v["failures"].as_array().unwrap().len().to_string(), field("failures_injected"));
-    assert_eq!(v["unsure"].to_string(), field("unsure"));
+    let off = d.join("scenario-survivor-step-off.toml");
+    for (prefix, scenario) in [("off,2,", off.to_str().unwrap()), ("on,2,", "paper")] {
+        let run: Vec<&str> = runs.lines().find(|l| l.starts_with(prefix)).unwrap().split(',').collect();
+        let field = |name: &str| run[head.iter().position(|h| *h == name).unwrap()];
+        let v =
+            simulate_json(&["--scenario", scenario, "--robots", "6", "--seed", field("seed"), "--kill-random", "2"]);
+        assert_eq!(v["rounds"].to_string(), field("rounds"), "{prefix}");
+        assert_eq!(format!("{:.6}", num(&v, "search_time_s")), field("search_time_s"));
+        assert_eq!(v["failures"].as_array().unwrap().len().to_string(), field("failures_injected"));
+        assert_eq!(v["unsure"].to_string(), field("unsure"));
+    }
     roxmltree::Document::parse(&fs::read_to_string(d.join("failures.svg")).unwrap()).expect("failures.svg is XML");
     let html = fs::read_to_string(d.join("report.html")).unwrap();
     assert!(html.contains("Failures: paper scenario, 6 robots") && html.contains("false susp./<wbr>run"), "report");
+    assert!(html.contains("survivor_step = false") && html.contains("(dashed)"), "report says which curve is which");
 }
 
 #[test]

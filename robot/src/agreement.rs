@@ -22,9 +22,10 @@ use crate::policy::Policy;
 /// the parameters and a map's stop in its header (the controller's
 /// receiver reads it); version 4 the time a map's sender sensed; version 5
 /// the `Wait` frame and the choice order in the parameters; version 6
-/// targets as positions ([`crate::spot`]), not the world's ids. A hello starts with its
+/// targets as positions ([`crate::spot`]), not the world's ids; version 7
+/// the survivor step's switch in the parameters. A hello starts with its
 /// version, so that a later world can read it whatever follows.
-pub const PROTOCOL_VERSION: u32 = 6;
+pub const PROTOCOL_VERSION: u32 = 7;
 
 /// A scenario as the processes of a run name it: its `name`, and the
 /// SHA3-256 of its canonical text (`Scenario::to_toml`, before the run's

@@ -52,6 +52,14 @@ pub struct Params {
     /// maps"); false: only the next exchange's maps carry it.
     #[serde(default = "defaults::choices_update_maps")]
     pub choices_update_maps: bool,
+    /// Reading "survivors": once a robot knows of a failure or a body, a
+    /// robot of the paper's rules with every candidate visited steps
+    /// towards the nearest unvisited vertex it can reach (escape's rule)
+    /// instead of the paper's walk over visited vertices; false: the
+    /// paper's rules as written, failures or not (docs/paper.md
+    /// "Survivors"). Fault-free runs never take the step either way.
+    #[serde(default = "defaults::survivor_step")]
+    pub survivor_step: bool,
     /// How the world referees RU's collisions (the paper only says each
     /// costs a move time): see [`RuCollisions`].
     #[serde(default)]
@@ -253,6 +261,9 @@ mod defaults {
     pub fn choices_update_maps() -> bool {
         true
     }
+    pub fn survivor_step() -> bool {
+        true
+    }
 }
 
 impl Params {
@@ -275,6 +286,7 @@ impl Params {
             retries: 0,
             suspect_rounds: defaults::suspect_rounds(),
             choices_update_maps: defaults::choices_update_maps(),
+            survivor_step: defaults::survivor_step(),
             ru_collisions: RuCollisions::default(),
             slot: SlotRule::default(),
             order: Order::default(),

@@ -44,6 +44,10 @@ pub struct RobotConfig {
     /// Reading "choices update maps" (docs/paper.md): a received choice marks
     /// its vertex visited in the receiver's map at once.
     pub choices_update_maps: bool,
+    /// Reading "survivors" ([`crate::params::Params::survivor_step`]):
+    /// whether, failures known, the core may step a robot towards the
+    /// nearest unvisited vertex instead of its rule's choice.
+    pub survivor_step: bool,
     /// Step 4's order ([`Order`]): the paper's, or a local one.
     pub order: Order,
     /// Robots in the team, this one included (0: not known). A robot
@@ -69,6 +73,7 @@ impl RobotConfig {
             r_safe,
             seed,
             choices_update_maps: true,
+            survivor_step: true,
             order: Order::Paper,
             team: 0,
         }
@@ -732,7 +737,7 @@ impl<'g> Robot<'g> {
     /// Step 5 proper: the policy's rule picks among `cands`; anything but
     /// a candidate is staying.
     fn pick(&mut self, cands: &[VertexId]) -> Option<VertexId> {
-        if !self.rule.passes_unvisited() || self.stuck_behind_unseen() {
+        if self.cfg.survivor_step && (!self.rule.passes_unvisited() || self.stuck_behind_unseen()) {
             if let Some(step) = self.survivor_step(cands) {
                 return Some(step);
             }
@@ -766,7 +771,8 @@ impl<'g> Robot<'g> {
     /// walk could take thousands of rounds to find the few vertices the
     /// bodies' lost maps leave, and a declaration nobody checks (a live
     /// robot unheard under loss) would cut robots off for good. Failure-free
-    /// runs never get here, so they follow the paper exactly.
+    /// runs never get here, so they follow the paper exactly; with
+    /// `survivor_step` off (the paper's rules under failure) nobody does.
     fn survivor_step(&mut self, cands: &[VertexId]) -> Option<VertexId> {
         if !self.faults_known() || cands.iter().any(|&c| !self.map.visited(c)) {
             return None;

@@ -65,6 +65,7 @@ impl RobotSetup {
             r_safe: self.params.r_safe,
             seed: self.seed,
             choices_update_maps: self.params.choices_update_maps,
+            survivor_step: self.params.survivor_step,
             order: self.params.order,
             team: self.team,
         };

@@ -13,8 +13,8 @@
 //!   a length `L = clamp(scale * a * s, a, max_step * a)` with `s` drawn by
 //!   Mantegna's method with exponent `beta`, and a heading: uniform in
 //!   `[0, 2 pi)` for the first flight, then the previous heading plus
-//!   `N(0, sigma)` (the paper's normal turning law; sigma calibrated,
-//!   [`readings::DEFAULT_TURN_SIGMA`]), or with `turn = "uniform"` uniform
+//!   `N(0, sigma)` (the paper's normal turning law; sigma 1 by default, the
+//!   standard normal, [`readings::DEFAULT_TURN_SIGMA`]), or with `turn = "uniform"` uniform
 //!   for every flight ([`Turn`]). A new
 //!   heading that points into a sensed obstacle (against the obstacle
 //!   repulsion) is mirrored off it, so a robot stopped at a wall turns away.
@@ -135,7 +135,7 @@ pub struct LfpParams {
     /// into a wall (0.5 % of draws reach it).
     pub max_step: f64,
     /// How each new flight's heading is drawn: a turn sigma in radians
-    /// (default [`readings::DEFAULT_TURN_SIGMA`], calibrated; `turn_sigma`
+    /// (default [`readings::DEFAULT_TURN_SIGMA`], the standard normal; `turn_sigma`
     /// is still read) or `"uniform"`. Search time is sensitive to it (one
     /// robot on a 20 x 16 m map with four obstacles: about 1900 s at 0.5,
     /// 2600 s at 1.0, 3700 s at pi/2, 4900 s at pi), so reports should

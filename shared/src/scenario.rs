@@ -35,7 +35,7 @@
 //!
 //! [lfp]                     # optional constants of the LFP baseline (LfpParams)
 //! beta = 1.5
-//! turn = 2.5                # turn sigma in radians (default calibrated) | "uniform"
+//! turn = 1.0                # turn sigma in radians (default the standard normal) | "uniform"
 //! repel_range = "sonar"     # robots repel within r_so (default) | "radio": r_c
 //! ```
 //!

@@ -80,7 +80,12 @@ fn drawn(policy: &str, seed: u64, situation: Situation, faults: Vec<Fault>, radi
 
 /// The built-in scenario `name` with its parameters changed by `change`.
 fn builtin_with(name: &str, change: impl FnOnce(&mut gridswarm::params::Params)) -> Scenario {
-    let mut sc = Scenario::builtin(name).unwrap();
+    builtin_like(&Scenario::builtin(name).unwrap(), change)
+}
+
+/// A copy of `sc` with its parameters changed by `change`.
+fn builtin_like(sc: &Scenario, change: impl FnOnce(&mut gridswarm::params::Params)) -> Scenario {
+    let mut sc = sc.clone();
     change(&mut sc.params);
     sc
 }
@@ -190,6 +195,28 @@ fn survivors_finish_what_the_bodies_leave_them() {
                   --kill 22@8+1.809 --kill 56@15";
     assert!(r.complete, "incomplete, ended by {}: {replay}", r.protocol.ended_by);
     assert!(r.rounds <= 150, "{} rounds (30 without the crashes): {replay}", r.rounds);
+}
+
+#[test]
+fn the_survivor_step_switch_acts_only_once_failures_are_known() {
+    // The reproducer above under the paper's rules as written
+    // (`survivor_step = false`) and with the step: the same run without
+    // crashes, another with them (90 rounds without the step, 119 with
+    // it, both complete: the bodies are spread in the maps either way).
+    let sc = Scenario::load("random:835017,targets=3").unwrap();
+    let world = |step| builtin_like(&sc, |p| p.survivor_step = step).world();
+    let (off, on) = (world(false), world(true));
+    let starts = sc.start_vertices(&off, 60).unwrap();
+    let mut cfg = config(Policy::Repulsive, 1811463231, Situation::Two, vec![]);
+    let json = |w, cfg: &RunConfig| serde_json::to_string(&engine::run(w, &starts, cfg)).unwrap();
+    assert_eq!(json(&off, &cfg), json(&on, &cfg), "fault-free: the same run");
+    cfg.faults = vec![at(22, 8, 1809, FaultKind::Crash), at(56, 15, 0, FaultKind::Crash)];
+    let (a, b) = (engine::run(&off, &starts, &cfg), engine::run(&on, &starts, &cfg));
+    let replay = "gridswarm experiment failures --scenario random:835017,targets=3 --robots 60 --killed 0 --runs 1 \
+                  writes the scenario with survivor_step = false; then simulate --robots 60 --seed 1811463231 \
+                  --situation 2 --kill 22@8+1.809 --kill 56@15";
+    assert!(a.complete && b.complete, "{replay}");
+    assert_ne!((a.rounds, a.search_time_s), (b.rounds, b.search_time_s), "the switch changed nothing: {replay}");
 }
 
 #[test]

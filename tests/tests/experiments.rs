@@ -63,7 +63,7 @@ fn deterministic_runs(path: &Path) -> Vec<String> {
     let (h, rows) = csv_rows(path);
     rows.iter()
         .map(|r| {
-            ["killed", "run", "seed", "complete", "rounds", "collisions", "failures_injected"]
+            ["survivor_step", "killed", "run", "seed", "complete", "rounds", "collisions", "failures_injected"]
                 .map(|c| cell(&h, r, c).to_string())
                 .join(",")
         })
@@ -96,8 +96,11 @@ fn a_small_failures_experiment() {
     assert!(stdout.contains("engine distributed") && stdout.contains("detected"), "{stdout}");
 
     let (h, rows) = csv_rows(&out.join("failures.csv"));
-    assert_eq!(rows.len(), 2);
-    for (k, r) in rows.iter().enumerate() {
+    // The paper's rules, then the survivor step, each at 0 and 1 killed.
+    assert_eq!(rows.len(), 4);
+    for (i, r) in rows.iter().enumerate() {
+        let k = i % 2;
+        assert_eq!(cell(&h, r, "survivor_step"), ["off", "on"][i / 2]);
         assert_eq!(num(&h, r, "killed"), k as f64);
         assert_eq!(num(&h, r, "runs"), 2.0);
         assert_eq!(num(&h, r, "completion_rate"), 1.0);
@@ -113,7 +116,9 @@ fn a_small_failures_experiment() {
         assert!(num(&h, &rows[1], "mean_detection_delay_rounds") >= 0.0);
         assert!(num(&h, &rows[1], "mean_detection_delay_s") > 0.0);
     }
-    assert_eq!(csv_rows(&out.join("failures-runs.csv")).1.len(), 4);
+    assert_eq!(csv_rows(&out.join("failures-runs.csv")).1.len(), 8);
+    // The paper's rules ran on the scenario written beside the results.
+    assert!(out.join("scenario-survivor-step-off.toml").is_file());
     assert_svg(&out.join("failures.svg"), &["robots killed", "Search time", "Detection delay"]);
     assert_report(&out.join("report.html"), &["Failures: paper scenario, 5 robots", "failures.csv", "seed_derivation"]);
 

@@ -145,7 +145,14 @@ mod tests {
         assert_eq!(s.lfp.turn, gridswarm::lfp::Turn::Sigma(0.5));
         assert_eq!((s.name.as_str(), s.targets.len()), ("paper", paper().targets.len()));
         assert_eq!(apply(&paper(), &[]).unwrap().to_toml(""), paper().to_toml(""));
-        for (k, v) in [("t_wait", "-1"), ("t_wait", "soon"), ("ru_collisions", "sometimes"), ("micro_steps", "0.5")] {
+        assert!(!apply(&paper(), &[("survivor_step", "false")]).unwrap().params.survivor_step);
+        for (k, v) in [
+            ("t_wait", "-1"),
+            ("t_wait", "soon"),
+            ("ru_collisions", "sometimes"),
+            ("micro_steps", "0.5"),
+            ("survivor_step", "sometimes"),
+        ] {
             let e = apply(&paper(), &[(k, v)]).unwrap_err();
             assert!(
                 matches!(&e, Error::Usage(m) if m.starts_with(&format!("--set {k}={v}: ")) && !m.contains(":1")),

@@ -339,6 +339,16 @@ fn uniform_turning_forgets_the_last_heading() {
 }
 
 #[test]
+fn the_default_turn_is_the_standard_normal_and_keeps_the_stated_correlation() {
+    // The rule docs/paper.md states: N(0, 1) in radians, so a flight's
+    // heading keeps a mean cosine of exp(-1/2) = 0.61 with the last one
+    // (sd about 0.003 over 20,000 flights), neither straight nor uniform.
+    assert_eq!(LfpParams::default().turn, Turn::Sigma(1.0));
+    let walk = mean_turn_cos(LfpParams::default().turn);
+    assert!((walk - (-0.5f64).exp()).abs() < 0.02, "{walk}");
+}
+
+#[test]
 fn robots_repel_within_sonar_range_by_default() {
     let p = Params::default();
     assert!(p.r_so < p.r_c);

@@ -88,6 +88,7 @@ struct RawParams {
     retries: Option<u32>,
     suspect_rounds: Option<u32>,
     choices_update_maps: Option<bool>,
+    survivor_step: Option<bool>,
     ru_collisions: Option<String>,
     slot: Option<String>,
     order: Option<String>,
@@ -388,6 +389,7 @@ impl RawParams {
             p.suspect_rounds = k;
         }
         p.choices_update_maps = self.choices_update_maps.unwrap_or(p.choices_update_maps);
+        p.survivor_step = self.survivor_step.unwrap_or(p.survivor_step);
         if let Some(name) = self.ru_collisions {
             p.ru_collisions = RuCollisions::from_name(&name).ok_or_else(|| {
                 ctx.err(
@@ -740,6 +742,20 @@ mod tests {
         assert_eq!(s.params.ru_collisions, RuCollisions::BackOff);
         assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(0.5), RepelRange::Radio));
         assert_eq!(parse("[lfp]\nturn_sigma = 1\n").unwrap().lfp.turn, Turn::Sigma(1.0));
+    }
+
+    #[test]
+    fn the_survivor_step_switches_and_is_written_only_when_off() {
+        let on = parse("").unwrap();
+        assert!(on.params.survivor_step);
+        assert!(!on.to_toml("").contains("survivor_step"), "a scenario keeps its hash while the step is on");
+        let off = parse("[params]\nsurvivor_step = false\n").unwrap();
+        assert!(!off.params.survivor_step);
+        let text = off.to_toml("");
+        assert!(text.contains("survivor_step = false"), "{text}");
+        assert!(!Scenario::parse(&text, "again.toml").unwrap().params.survivor_step);
+        let e = parse("[params]\nsurvivor_step = \"no\"\n").unwrap_err();
+        assert!(e.contains("survivor_step") && e.contains("bool"), "{e}");
     }
 
     #[test]

@@ -77,6 +77,10 @@ impl Scenario {
         if p.broadcast != crate::params::Broadcast::Controller {
             let _ = writeln!(s, "broadcast = {}", quoted(p.broadcast.name()));
         }
+        // Likewise: every scenario keeps its hash while the step is on.
+        if !p.survivor_step {
+            let _ = writeln!(s, "survivor_step = false");
+        }
         if geometry {
             self.write_geometry(&mut s);
         }
