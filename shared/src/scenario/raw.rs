@@ -727,19 +727,24 @@ mod tests {
     #[test]
     fn readings_default_to_the_papers_and_switch_by_name() {
         let s = parse("").unwrap();
-        assert_eq!(s.params.ru_collisions, RuCollisions::PerPair);
+        assert_eq!(s.params.ru_collisions, RuCollisions::PerEvent);
         let sigma = crate::lfp::DEFAULT_TURN_SIGMA;
         assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(sigma), RepelRange::Sonar));
         let s = parse("[params]\nru_collisions = \"back-off\"\n[lfp]\nturn = 0.5\nrepel_range = \"radio\"\n").unwrap();
         assert_eq!(s.params.ru_collisions, RuCollisions::BackOff);
         assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(0.5), RepelRange::Radio));
+        let s = parse("[params]\nru_collisions = \"per-pair\"\n").unwrap();
+        assert_eq!(s.params.ru_collisions, RuCollisions::PerPair);
         assert_eq!(parse("[lfp]\nturn_sigma = 1\n").unwrap().lfp.turn, Turn::Sigma(1.0));
     }
 
     #[test]
     fn bad_readings_are_named_errors() {
         let e = parse("[params]\nru_collisions = \"pairs\"\n").unwrap_err();
-        assert!(e.contains("t.toml:4:17: params.ru_collisions: must be one of back-off, per-pair, got `pairs`"), "{e}");
+        assert!(
+            e.contains("t.toml:4:17: params.ru_collisions: must be one of per-event, per-pair, back-off, got `pairs`"),
+            "{e}"
+        );
         let e = parse("[lfp]\nturn = -0.5\n").unwrap_err();
         assert!(e.contains("lfp.turn: must be >= 0, got -0.5"), "{e}");
         let e = parse("[lfp]\nturn = \"normal\"\n").unwrap_err();
