@@ -56,6 +56,9 @@ pub struct Params {
     /// costs a move time): see [`RuCollisions`].
     #[serde(default)]
     pub ru_collisions: RuCollisions,
+    /// Rule (2)'s choice among visited candidates: see [`VisitedChoice`].
+    #[serde(default)]
+    pub visited_choice: VisitedChoice,
     /// What ends a slot: see [`SlotRule`].
     #[serde(default)]
     pub slot: SlotRule,
@@ -201,6 +204,48 @@ impl RuCollisions {
     }
 }
 
+/// Rule (2)'s choice among visited candidates (issue 36, 5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VisitedChoice {
+    /// Default, as the text reads rule (2): the candidate farthest from
+    /// `p_ave`, ties uniformly. Deterministic up to ties, so robots that
+    /// stay in radio range can shuttle between two visited vertices for
+    /// ever (docs/paper.md, "Theorem 4.1").
+    #[default]
+    Farthest,
+    /// As Theorem 4.1's proof reads it ("robots will randomly choose
+    /// accessible sensing neighbors"): uniformly over the visited
+    /// candidates, with or without neighbours. Not the text's rule.
+    Uniform,
+    /// The proof's random choice with the repulsion as a bias: with
+    /// probability 1/2 the farthest (ties uniformly), otherwise uniformly
+    /// over every visited candidate, so each has probability at least
+    /// `1 / (2 n)`. Not the text's rule.
+    RandomBiased,
+}
+
+impl VisitedChoice {
+    pub const NAMES: [&'static str; 3] = ["farthest", "uniform", "random-biased"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            VisitedChoice::Farthest => "farthest",
+            VisitedChoice::Uniform => "uniform",
+            VisitedChoice::RandomBiased => "random-biased",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "farthest" => Some(VisitedChoice::Farthest),
+            "uniform" => Some(VisitedChoice::Uniform),
+            "random-biased" => Some(VisitedChoice::RandomBiased),
+            _ => None,
+        }
+    }
+}
+
 /// Defaults of the protocol's timing, for files written before they existed.
 mod defaults {
     pub fn t_exchange() -> f64 {
@@ -241,6 +286,7 @@ impl Params {
             suspect_rounds: defaults::suspect_rounds(),
             choices_update_maps: defaults::choices_update_maps(),
             ru_collisions: RuCollisions::default(),
+            visited_choice: VisitedChoice::default(),
             slot: SlotRule::default(),
             order: Order::default(),
         }

@@ -66,6 +66,7 @@ impl RobotSetup {
             seed: self.seed,
             choices_update_maps: self.params.choices_update_maps,
             order: self.params.order,
+            visited_choice: self.params.visited_choice,
             team: self.team,
         };
         PeerConfig::new(rc, &self.params)

@@ -10,7 +10,7 @@ use super::{gaps, Scenario, ScenarioError, Starts};
 use crate::geometry::{Circle, Point, Polygon, Shape};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
-use crate::params::{Order, Params, RuCollisions, Situation, SlotRule};
+use crate::params::{Order, Params, RuCollisions, Situation, SlotRule, VisitedChoice};
 use crate::spot::{Spot, STEPS};
 
 /// A point as written: `[x, y]`, exactly two numbers. A plain `[f64; 2]`
@@ -89,6 +89,7 @@ struct RawParams {
     suspect_rounds: Option<u32>,
     choices_update_maps: Option<bool>,
     ru_collisions: Option<String>,
+    visited_choice: Option<String>,
     slot: Option<String>,
     order: Option<String>,
 }
@@ -392,6 +393,14 @@ impl RawParams {
                 ctx.err(
                     "params.ru_collisions",
                     format!("must be one of {}, got `{name}`", RuCollisions::NAMES.join(", ")),
+                )
+            })?;
+        }
+        if let Some(name) = self.visited_choice {
+            p.visited_choice = VisitedChoice::from_name(&name).ok_or_else(|| {
+                ctx.err(
+                    "params.visited_choice",
+                    format!("must be one of {}, got `{name}`", VisitedChoice::NAMES.join(", ")),
                 )
             })?;
         }
@@ -715,7 +724,7 @@ fn file_stem(file: &str) -> String {
 #[cfg(test)]
 mod tests {
     use crate::lfp::{RepelRange, Turn};
-    use crate::params::RuCollisions;
+    use crate::params::{RuCollisions, VisitedChoice};
     use crate::scenario::Scenario;
 
     const AREA: &str = "[area]\npolygon = [[0, 0], [10, 0], [10, 10], [0, 10]]\n";
@@ -728,13 +737,15 @@ mod tests {
     fn readings_default_to_the_papers_and_switch_by_name() {
         let s = parse("").unwrap();
         assert_eq!(s.params.ru_collisions, RuCollisions::PerEvent);
+        assert_eq!(s.params.visited_choice, VisitedChoice::Farthest);
         let sigma = crate::lfp::DEFAULT_TURN_SIGMA;
         assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(sigma), RepelRange::Sonar));
         let s = parse("[params]\nru_collisions = \"back-off\"\n[lfp]\nturn = 0.5\nrepel_range = \"radio\"\n").unwrap();
         assert_eq!(s.params.ru_collisions, RuCollisions::BackOff);
         assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(0.5), RepelRange::Radio));
-        let s = parse("[params]\nru_collisions = \"per-pair\"\n").unwrap();
+        let s = parse("[params]\nru_collisions = \"per-pair\"\nvisited_choice = \"random-biased\"\n").unwrap();
         assert_eq!(s.params.ru_collisions, RuCollisions::PerPair);
+        assert_eq!(s.params.visited_choice, VisitedChoice::RandomBiased);
         assert_eq!(parse("[lfp]\nturn_sigma = 1\n").unwrap().lfp.turn, Turn::Sigma(1.0));
     }
 
@@ -743,6 +754,11 @@ mod tests {
         let e = parse("[params]\nru_collisions = \"pairs\"\n").unwrap_err();
         assert!(
             e.contains("t.toml:4:17: params.ru_collisions: must be one of per-event, per-pair, back-off, got `pairs`"),
+            "{e}"
+        );
+        let e = parse("[params]\nvisited_choice = \"random\"\n").unwrap_err();
+        assert!(
+            e.contains("params.visited_choice: must be one of farthest, uniform, random-biased, got `random`"),
             "{e}"
         );
         let e = parse("[lfp]\nturn = -0.5\n").unwrap_err();

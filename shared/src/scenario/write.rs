@@ -74,6 +74,9 @@ impl Scenario {
         if p.order != crate::params::Order::Paper {
             let _ = writeln!(s, "order = {}", quoted(p.order.name()));
         }
+        if p.visited_choice != crate::params::VisitedChoice::Farthest {
+            let _ = writeln!(s, "visited_choice = {}", quoted(p.visited_choice.name()));
+        }
         if geometry {
             self.write_geometry(&mut s);
         }
