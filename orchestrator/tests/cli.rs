@@ -219,9 +219,9 @@ fn small_experiment_writes_tables_figure_and_claims() {
         assert_eq!(f[col("oracle_runs")], "5", "{r}");
     }
     let readings = summary["sensitivity"].as_array().unwrap();
-    // RU's other collision charge, LFP's other turning laws (uniform, and
-    // sigma 0.5 unless that is the default) and repulsion range, at 3 counts.
-    let alternatives = if summary["lfp"]["turn"] == 0.5 { 3 } else { 4 };
+    // RU's two other collision charges, LFP's other turning laws (uniform,
+    // and sigma 0.5 unless that is the default) and repulsion range, at 3 counts.
+    let alternatives = if summary["lfp"]["turn"] == 0.5 { 4 } else { 5 };
     assert_eq!(readings.len(), alternatives * 3, "{summary}");
     let html = fs::read_to_string(one.join("report.html")).unwrap();
     assert!(html.contains("Sensitivity to the readings") && html.contains("× oracle"));
@@ -252,13 +252,13 @@ fn readings_reuse_curves_and_judge_as_the_sweep_does() {
     assert_ok(&o);
     let text = stdout(&o);
     assert!(text.contains("RU reading") && text.contains("same at every seed"), "{text}");
-    // 2 seeds x 2 RU readings x 2 turning laws x (3 claims and all three).
+    // 2 seeds x 3 RU readings x 2 turning laws x (3 claims and all three).
     let csv = fs::read_to_string(grid.join("readings.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 1 + 2 * 2 * 2 * 4, "{csv}");
-    // Curves per seed: LFP under 2 laws x 2 charges, RU under 2 charges,
-    // (1)&(3) and (1),(2)&(3) once: 8, at 4 robot counts.
+    assert_eq!(csv.lines().count(), 1 + 2 * 3 * 2 * 4, "{csv}");
+    // Curves per seed: LFP under 2 laws x 3 charges, RU under 3 charges,
+    // (1)&(3) and (1),(2)&(3) once: 11, at 4 robot counts.
     let cells = fs::read_to_string(grid.join("cells.csv")).unwrap();
-    assert_eq!(cells.lines().count(), 1 + 2 * 8 * 4, "{cells}");
+    assert_eq!(cells.lines().count(), 1 + 2 * 11 * 4, "{cells}");
     roxmltree::Document::parse(&fs::read_to_string(grid.join("readings.svg")).unwrap()).expect("SVG is XML");
     assert!(fs::read_to_string(grid.join("report.html")).unwrap().contains("Where the claims hold"));
     // The combination of the scenario's own readings at seed 2 is the
@@ -268,7 +268,7 @@ fn readings_reuse_curves_and_judge_as_the_sweep_does() {
         .as_array()
         .unwrap()
         .iter()
-        .find(|x| x["seed"] == 2 && x["ru_collisions"] == "per-pair" && x["turn"] != "uniform")
+        .find(|x| x["seed"] == 2 && x["ru_collisions"] == "per-event" && x["turn"] != "uniform")
         .expect("the scenario's readings are in the grid");
     assert_eq!(own["claims"], summary["claims"]);
     // A turning law that is not one is a usage error.

@@ -112,7 +112,8 @@ fn series_agree_with_the_engine() {
             assert_eq!(last, coverage, "{policy:?}");
             // Under back-off robots that collide back off and the poses show
             // only the collisions of robots that got through; per pair
-            // (the default) stacked robots are charged again unseen.
+            // stacked robots are charged again unseen; per event (the
+            // default) the poses show every collision counted.
             assert!(
                 s.collisions.len() as u32 <= result.collisions,
                 "{} > {}: {:?}",
@@ -134,7 +135,11 @@ fn series_agree_with_the_engine() {
         assert_eq!(counts.len(), rounds);
         assert_eq!(counts.iter().sum::<u32>(), result.collisions, "{policy:?}");
         assert_eq!(replay::data(&rec)["collision_counts"], json!(counts));
-        let backs_off = gridswarm::params::Params::default().ru_collisions == RuCollisions::BackOff;
+        let reading = gridswarm::params::Params::default().ru_collisions;
+        if policy == Policy::Ru && reading == RuCollisions::PerEvent {
+            assert_eq!(s.collisions.len() as u32, result.collisions, "every event is on the poses");
+        }
+        let backs_off = reading == RuCollisions::BackOff;
         if policy == Policy::Ru && backs_off {
             assert!(
                 s.collisions.len() < result.collisions as usize,
@@ -311,9 +316,9 @@ fn experiment_writes_a_report_and_is_quiet_in_a_pipe() {
         assert!(html.contains(needle), "{needle} missing");
     }
     // 4 algorithms x 2 robot counts, then the sensitivity to the readings:
-    // RU's other collision charge, LFP's two other turning laws (uniform,
-    // sigma 0.5) and other repulsion range x 2 robot counts.
-    assert_eq!(html.matches("<tr><td>").count(), 8 + 4 * 2);
+    // RU's two other collision charges, LFP's two other turning laws
+    // (uniform, sigma 0.5) and other repulsion range x 2 robot counts.
+    assert_eq!(html.matches("<tr><td>").count(), 8 + 5 * 2);
     assert!(html.contains("Sensitivity to the readings"));
     assert!(!html.contains("<script"));
     assert!(!html.replace("http://www.w3.org/2000/svg", "").contains("http"), "only the SVG namespace is a URL");

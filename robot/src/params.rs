@@ -64,6 +64,9 @@ pub struct Params {
     /// costs a move time): see [`RuCollisions`].
     #[serde(default)]
     pub ru_collisions: RuCollisions,
+    /// Rule (2)'s choice among visited candidates: see [`VisitedChoice`].
+    #[serde(default)]
+    pub visited_choice: VisitedChoice,
     /// What ends a slot: see [`SlotRule`].
     #[serde(default)]
     pub slot: SlotRule,
@@ -207,7 +210,7 @@ impl std::str::FromStr for SlotRule {
     }
 }
 
-/// The reading of "one extra move time per collision" (issue 8, 1a; issue 22, 1).
+/// The reading of "one extra move time per collision" (issue 8, 1a; issue 22, 1; issue 36, 3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum RuCollisions {
@@ -217,21 +220,29 @@ pub enum RuCollisions {
     /// parallel, and a pair is never charged for standing still. The
     /// project's reading before issue 22; the text mentions no backing off.
     BackOff,
-    /// Default, the paper's words ("an additional move time ... for each
-    /// collision"): every colliding pair adds one move time to the whole
-    /// team's round, and robots that end on one vertex stay there, charged
-    /// again every round they start stacked.
-    #[default]
+    /// Every colliding pair adds one move time to the whole team's round,
+    /// and robots that end on one vertex stay there, charged again every
+    /// round they start stacked. The default of issues 22 to 36.
     PerPair,
+    /// Default, the paper's words ("an additional move time is added for
+    /// each collision") read as events: a pair collides when its moves
+    /// bring it within `2 r_safe`, or it ends on one vertex, having started
+    /// the round apart; each such event adds one move time to the whole
+    /// team's round. A pair that starts a round in contact (stacked on one
+    /// vertex) has not moved apart since its collision: the same event,
+    /// charged no more until it has been apart.
+    #[default]
+    PerEvent,
 }
 
 impl RuCollisions {
-    pub const NAMES: [&'static str; 2] = ["back-off", "per-pair"];
+    pub const NAMES: [&'static str; 3] = ["per-event", "per-pair", "back-off"];
 
     pub fn name(self) -> &'static str {
         match self {
             RuCollisions::BackOff => "back-off",
             RuCollisions::PerPair => "per-pair",
+            RuCollisions::PerEvent => "per-event",
         }
     }
 
@@ -239,6 +250,49 @@ impl RuCollisions {
         match s {
             "back-off" => Some(RuCollisions::BackOff),
             "per-pair" => Some(RuCollisions::PerPair),
+            "per-event" => Some(RuCollisions::PerEvent),
+            _ => None,
+        }
+    }
+}
+
+/// Rule (2)'s choice among visited candidates (issue 36, 5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum VisitedChoice {
+    /// Default, as the text reads rule (2): the candidate farthest from
+    /// `p_ave`, ties uniformly. Deterministic up to ties, so robots that
+    /// stay in radio range can shuttle between two visited vertices for
+    /// ever (docs/paper.md, "Theorem 4.1").
+    #[default]
+    Farthest,
+    /// As Theorem 4.1's proof reads it ("robots will randomly choose
+    /// accessible sensing neighbors"): uniformly over the visited
+    /// candidates, with or without neighbours. Not the text's rule.
+    Uniform,
+    /// The proof's random choice with the repulsion as a bias: with
+    /// probability 1/2 the farthest (ties uniformly), otherwise uniformly
+    /// over every visited candidate, so each has probability at least
+    /// `1 / (2 n)`. Not the text's rule.
+    RandomBiased,
+}
+
+impl VisitedChoice {
+    pub const NAMES: [&'static str; 3] = ["farthest", "uniform", "random-biased"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            VisitedChoice::Farthest => "farthest",
+            VisitedChoice::Uniform => "uniform",
+            VisitedChoice::RandomBiased => "random-biased",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "farthest" => Some(VisitedChoice::Farthest),
+            "uniform" => Some(VisitedChoice::Uniform),
+            "random-biased" => Some(VisitedChoice::RandomBiased),
             _ => None,
         }
     }
@@ -288,6 +342,7 @@ impl Params {
             choices_update_maps: defaults::choices_update_maps(),
             survivor_step: defaults::survivor_step(),
             ru_collisions: RuCollisions::default(),
+            visited_choice: VisitedChoice::default(),
             slot: SlotRule::default(),
             order: Order::default(),
             broadcast: Broadcast::default(),
@@ -301,12 +356,13 @@ impl Params {
     }
 
     /// What `collisions` counted pairs add to a round (s), per
-    /// [`Params::ru_collisions`]: once per round with any, or once per pair.
+    /// [`Params::ru_collisions`]: once per round with any, or once per
+    /// counted pair (the referee counts events or pairs accordingly).
     pub fn collision_penalty(&self, collisions: u32) -> f64 {
         match self.ru_collisions {
             RuCollisions::BackOff if collisions > 0 => self.move_time(),
             RuCollisions::BackOff => 0.0,
-            RuCollisions::PerPair => collisions as f64 * self.move_time(),
+            RuCollisions::PerPair | RuCollisions::PerEvent => collisions as f64 * self.move_time(),
         }
     }
 }

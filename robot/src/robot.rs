@@ -25,7 +25,7 @@ use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::MAX_DEGREE;
 use crate::map::sightings::Sighting;
 use crate::map::{Map, RobotId, SENSED};
-use crate::params::{Order, Situation};
+use crate::params::{Order, Situation, VisitedChoice};
 use crate::policy::Policy;
 use crate::rng::robot_rng;
 use crate::spot::Spot;
@@ -50,6 +50,8 @@ pub struct RobotConfig {
     pub survivor_step: bool,
     /// Step 4's order ([`Order`]): the paper's, or a local one.
     pub order: Order,
+    /// Rule (2) over visited candidates ([`VisitedChoice`]).
+    pub visited_choice: VisitedChoice,
     /// Robots in the team, this one included (0: not known). A robot
     /// knows its team's roster before the start, as it knows its own id.
     pub team: usize,
@@ -75,6 +77,7 @@ impl RobotConfig {
             choices_update_maps: true,
             survivor_step: true,
             order: Order::Paper,
+            visited_choice: VisitedChoice::Farthest,
             team: 0,
         }
     }
@@ -759,6 +762,7 @@ impl<'g> Robot<'g> {
             candidates: cands,
             neighbours: &views,
             blocked: &self.blocked_now,
+            visited_choice: self.cfg.visited_choice,
         };
         let c = self.rule.choose(&view, &mut self.rng).filter(|c| cands.contains(c));
         self.views = views;

@@ -67,6 +67,7 @@ impl RobotSetup {
             choices_update_maps: self.params.choices_update_maps,
             survivor_step: self.params.survivor_step,
             order: self.params.order,
+            visited_choice: self.params.visited_choice,
             team: self.team,
         };
         PeerConfig::new(rc, &self.params)

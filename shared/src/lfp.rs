@@ -51,13 +51,16 @@
 //!   `max_steer` between two micro-steps (smaller bends are steering while
 //!   driving). Collisions add `params.collision_penalty`, the reading the
 //!   world applies to RU ([`crate::params::RuCollisions`]): by default one
-//!   move time per colliding pair.
-//! - **Collisions.** The referee counts a collision for every pair of robots
-//!   that come closer than `2 * r_safe` at any moment of the round. All
-//!   robots move through their micro-steps together and each micro-step is
-//!   straight, so the closest approach within one is
-//!   [`geometry::swept_min_distance`]. A pair counts at most once per round,
-//!   and again in every round it is too close. The field makes collisions
+//!   move time per collision event.
+//! - **Collisions.** The referee counts a collision for a pair of robots
+//!   that come closer than `2 * r_safe`. All robots move through their
+//!   micro-steps together and each micro-step is straight, so the closest
+//!   approach within one is [`geometry::swept_min_distance`]. A pair counts
+//!   at most once per round. By default (`per-event`, as the world counts
+//!   RU's) only a pair that started the round at least `2 * r_safe` apart
+//!   counts: one still in contact from the last round is in the collision
+//!   already charged. Under `per-pair` and `back-off` a pair counts again
+//!   in every round it is too close. The field makes collisions
 //!   rare, not impossible (two robots just out of range close at up to `2a`
 //!   per round).
 //! - **Sensing and stop.** A target is found when it lies within `r_st` of a
@@ -108,7 +111,7 @@ use crate::geometry::{swept_min_distance, Point, Vector};
 use crate::grid::{VertexId, NONE};
 use crate::lattice::Coord;
 use crate::outcome::{Pose, RunConfig, RunMetrics, RunResult};
-use crate::params::Situation;
+use crate::params::{RuCollisions, Situation};
 use crate::policy::Policy;
 use crate::rng;
 use crate::world::coverage::{Coverage, Footprints};
@@ -372,10 +375,13 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
     let r_st2 = prm.r_st * prm.r_st;
     let repel = Repulsion { range: lfp.repel_range.range(prm), k: lfp.k_robot };
     let collide = 2.0 * prm.r_safe;
+    let events = prm.ru_collisions == RuCollisions::PerEvent;
     let micro = lfp.micro_steps.max(1);
     // Two robots further apart than this cannot meet within one micro-step.
     let far2 = (collide + 2.0 * a / micro as f64).powi(2);
     let mut stamp = vec![u32::MAX; n * n.saturating_sub(1) / 2];
+    // Where the robots stood when the round began (per-event collisions).
+    let mut begun: Vec<Point> = Vec::new();
 
     let mut pos: Vec<Point> = starts.iter().map(|&v| world.grid.position(v)).collect();
     let mut next = pos.clone();
@@ -458,6 +464,9 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
         }
 
         let mut round_collisions = 0u32;
+        if events {
+            begun.clone_from(&pos);
+        }
         for _ in 0..micro {
             repel.fields_and_near(&pos, &mut pushes, far2, &mut near);
             for (i, r) in robots.iter_mut().enumerate() {
@@ -494,10 +503,12 @@ pub fn run_prepared(lw: &LfpWorld, starts: &[VertexId], cfg: &RunConfig, lfp: &L
                 }
             }
             // Each pair counts at most once per round, however many of the
-            // round's micro-steps it spends too close.
+            // round's micro-steps it spends too close; per event, not at all
+            // if it started the round in contact (the collision counted).
             for &(i, j, pair) in &near {
                 let (i, j, pair) = (i as usize, j as usize, pair as usize);
-                if stamp[pair] != rounds && swept_min_distance(pos[i], next[i], pos[j], next[j]) < collide {
+                let fresh = stamp[pair] != rounds && !(events && (begun[i] - begun[j]).norm() < collide);
+                if fresh && swept_min_distance(pos[i], next[i], pos[j], next[j]) < collide {
                     stamp[pair] = rounds;
                     round_collisions += 1;
                 }

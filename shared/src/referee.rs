@@ -2,8 +2,11 @@
 //! robot really is, what its sonar and laser report, executing all moves at
 //! once and counting collisions. It never decides for a robot.
 //!
-//! Under the default collision reading ([`RuCollisions::BackOff`]) a
-//! collision is physical: robots that meet drive back to where they came
+//! Under the default collision reading ([`RuCollisions::PerEvent`]) a
+//! collision is an event: a pair that meets is counted once, and robots
+//! that end on one vertex stay there, uncharged until they have been
+//! apart; under [`RuCollisions::PerPair`] such a pair is counted again
+//! every round. Under [`RuCollisions::BackOff`] a collision is physical: robots that meet drive back to where they came
 //! from, so the next slot's readings show them there; but of each group of
 //! robots that met, one, drawn from the run's seed, gets through (it got
 //! there first), or two RU robots with one unvisited vertex between them
@@ -27,7 +30,9 @@ const EMPTY: u16 = u16::MAX;
 /// The outcome of executing one round's moves.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RoundReport {
-    /// Pairs of robots that came closer than `2 r_safe`, or shared a vertex.
+    /// Collisions counted: pairs of robots that came closer than `2 r_safe`
+    /// or shared a vertex (under [`RuCollisions::PerEvent`], only pairs that
+    /// started the round apart).
     pub collisions: u32,
     /// Moves refused because they were not along a traversable edge.
     pub refused: u32,
@@ -321,17 +326,21 @@ impl<'w> Referee<'w> {
         }
     }
 
-    /// Pairs closer than `2 r_safe` at any moment of the simultaneous moves;
-    /// marks the robots in them in `involved`.
     /// Two robots further apart than this at the start of a move cannot meet.
     fn reach(world: &World) -> f64 {
         2.0 * world.params.a + 2.0 * world.params.r_safe
     }
 
+    /// Pairs closer than `2 r_safe` at any moment of the simultaneous moves,
+    /// or ending on one vertex; marks the robots in them in `involved`.
+    /// Under [`RuCollisions::PerEvent`] a pair that starts the round in
+    /// contact (stacked since it collided) is in the collision already
+    /// counted: only pairs that start apart make a new one.
     fn count_collisions(&mut self, target: &[VertexId]) -> u32 {
         let grid = &self.world.grid;
         let params = &self.world.params;
         let limit = 2.0 * params.r_safe;
+        let events = params.ru_collisions == RuCollisions::PerEvent;
         let reach2 = Self::reach(self.world).powi(2);
         self.involved.clear();
         self.involved.resize(target.len(), false);
@@ -349,7 +358,8 @@ impl<'w> Referee<'w> {
             let (p0, p1) = (starts[i], grid.position(target[i]));
             let mut test = |j: usize| {
                 let q0 = starts[j];
-                if j <= i || (q0 - p0).norm_squared() > reach2 {
+                let d2 = (q0 - p0).norm_squared();
+                if j <= i || d2 > reach2 || (events && d2 < limit * limit) {
                     return;
                 }
                 let q1 = grid.position(target[j]);
@@ -447,6 +457,48 @@ mod tests {
             assert_eq!(r.execute(&[a, a]).collisions, 1);
             assert_eq!(r.positions(), &[a, a]);
         }
+    }
+
+    #[test]
+    fn a_stacked_pair_is_charged_once_per_event() {
+        let w = world(RuCollisions::PerEvent);
+        let (a, b, t) = (v(&w, 0, 0), v(&w, 2, 0), v(&w, 1, 0));
+        let mut r = Referee::new(&w, &[a, b]);
+        assert_eq!(r.execute(&[t, t]).collisions, 1, "meeting on one vertex is a collision");
+        assert_eq!(r.positions(), &[t, t], "no backing off: they stay stacked");
+        for _ in 0..3 {
+            assert_eq!(r.execute(&[t, t]).collisions, 0, "standing stacked is the same collision");
+        }
+        // Moving off together (never apart) is still that collision, and
+        // so is one of them stepping away.
+        let u = v(&w, 2, 0);
+        assert_eq!(r.execute(&[u, u]).collisions, 0);
+        assert_eq!(r.execute(&[u, t]).collisions, 0, "parting is no new collision");
+        assert_eq!(r.positions(), &[u, t]);
+        assert_eq!(w.params.collision_penalty(1), w.params.move_time(), "each event costs one move time");
+    }
+
+    #[test]
+    fn a_pair_that_separates_and_meets_again_is_charged_twice() {
+        let w = world(RuCollisions::PerEvent);
+        let (a, b, t) = (v(&w, 0, 0), v(&w, 2, 0), v(&w, 1, 0));
+        let mut r = Referee::new(&w, &[a, b]);
+        let mut charged = r.execute(&[t, t]).collisions;
+        charged += r.execute(&[a, t]).collisions;
+        assert_eq!(r.positions(), &[a, t], "apart again");
+        charged += r.execute(&[a, t]).collisions;
+        charged += r.execute(&[t, t]).collisions;
+        assert_eq!(charged, 2, "two meetings, two collisions");
+        // Head-on along one edge is a collision too, from apart.
+        let mut r = Referee::new(&w, &[a, t]);
+        assert_eq!(r.execute(&[t, a]).collisions, 1);
+        assert_eq!(r.execute(&[a, t]).collisions, 1, "swapped back: they met again");
+        // Per pair, the same stacked pair is charged every round.
+        let w = world(RuCollisions::PerPair);
+        let mut r = Referee::new(&w, &[a, b]);
+        let charged: u32 = (0..4).map(|_| r.execute(&[t, t]).collisions).sum();
+        assert_eq!(charged, 4);
+        assert_eq!(w.params.collision_penalty(4), 4.0 * w.params.move_time());
     }
 
     #[test]

@@ -14,7 +14,8 @@
 //! [params]                  # a, r_rob, r_safe default 1.0 / 0.25 / 0.30; r_so, r_st,
 //! a = 1.0                   # r_c default to the equality case of their assumption
 //! r_safe = 0.30             # (Params::derived); t_rot, t_trans, t_choice in seconds
-//! ru_collisions = "per-pair" # RU's collisions: per-pair (default) | back-off (RuCollisions)
+//! ru_collisions = "per-event" # RU's collisions: per-event (default) | per-pair | back-off (RuCollisions)
+//! visited_choice = "farthest" # rule (2) over visited vertices: farthest (default) | uniform | random-biased
 //! slot = "adaptive"         # what ends a slot: adaptive (default) | fixed (SlotRule)
 //! order = "paper"           # who waits for whose choice: paper (default) | local (Order)
 //! broadcast = "controller"  # how found targets and the stop reach all robots: controller (default) | flood (Broadcast)

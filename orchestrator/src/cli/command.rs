@@ -323,7 +323,7 @@ enum ExperimentKind {
         /// Base seeds, comma-separated: the whole grid under each (e.g. 1,2,3,4,5 checks that verdicts survive a change of seed).
         #[arg(long, value_delimiter = ',', default_value = "1")]
         seeds: Vec<u64>,
-        /// RU's readings of "one extra move time per collision": per-pair, back-off.
+        /// RU's readings of "one extra move time per collision": per-event, per-pair, back-off.
         #[arg(long, value_delimiter = ',', default_value = readings::DEFAULT_RU, value_parser = readings::parse_ru)]
         ru: Vec<gridswarm::params::RuCollisions>,
         /// LFP's turning laws: sigmas of the normal turn (rad) and/or `uniform`.

@@ -45,7 +45,7 @@ use crate::stats::{CellStats, RunRecord};
 
 pub const DEFAULT_OUT: &str = "readings-out";
 /// RU's readings of "an additional move time ... for each collision".
-pub const DEFAULT_RU: &str = "per-pair,back-off";
+pub const DEFAULT_RU: &str = "per-event,per-pair,back-off";
 /// LFP's turning laws: the normal law's sigma over a range, and uniform.
 pub const DEFAULT_TURNS: &str = "0.5,1,1.5,2,2.5,uniform";
 
@@ -86,7 +86,7 @@ pub fn parse_turn(s: &str) -> std::result::Result<Turn, String> {
     }
 }
 
-/// `per-pair`, `back-off`: one reading of `--ru`.
+/// `per-event`, `per-pair`, `back-off`: one reading of `--ru`.
 pub fn parse_ru(s: &str) -> std::result::Result<RuCollisions, String> {
     RuCollisions::from_name(s.trim())
         .ok_or_else(|| format!("`{}` is not an RU reading: one of {}", s.trim(), RuCollisions::NAMES.join(", ")))

@@ -46,7 +46,12 @@ struct Alternative {
     apply: fn(&mut Scenario),
 }
 
-const ALTERNATIVES: [Alternative; 5] = [
+const ALTERNATIVES: [Alternative; 6] = [
+    Alternative {
+        algorithm: Policy::Ru,
+        reading: "ru_collisions = \"per-event\"",
+        apply: |s| s.params.ru_collisions = RuCollisions::PerEvent,
+    },
     Alternative {
         algorithm: Policy::Ru,
         reading: "ru_collisions = \"back-off\"",

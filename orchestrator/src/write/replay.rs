@@ -400,10 +400,12 @@ pub fn series(rec: &Recorded) -> Series {
 
 /// The referee's test (`Referee::count_collisions`) on consecutive recorded
 /// poses: exact for grid policies, the round's net motion for LFP (whose
-/// engine also tests the sub-steps in between).
+/// engine also tests the sub-steps in between). Per event, a pair that
+/// starts the round in contact is the collision already marked.
 fn collisions(rec: &Recorded) -> Vec<(usize, usize, usize)> {
     let params = &rec.world.params;
     let limit = 2.0 * params.r_safe;
+    let events = params.ru_collisions == gridswarm::params::RuCollisions::PerEvent;
     let reach2 = (2.0 * params.a + limit).powi(2);
     let mut out = Vec::new();
     let mut moving: Vec<(usize, RecPose, RecPose)> = Vec::with_capacity(rec.poses.len());
@@ -412,7 +414,8 @@ fn collisions(rec: &Recorded) -> Vec<(usize, usize, usize)> {
         moving.extend(rec.poses.iter().enumerate().filter_map(|(r, p)| Some((r, *p.get(k)?, *p.get(k + 1)?))));
         for (a, &(i, p0, p1)) in moving.iter().enumerate() {
             for &(j, q0, q1) in &moving[a + 1..] {
-                if (q0.position - p0.position).norm_squared() > reach2 {
+                let d2 = (q0.position - p0.position).norm_squared();
+                if d2 > reach2 || (events && d2 < limit * limit) {
                     continue;
                 }
                 let same_end = match (p1.vertex, q1.vertex) {

@@ -137,6 +137,7 @@ mod tests {
             candidates: &candidates,
             neighbours: if neighbour { &others } else { &[] },
             blocked: &[],
+            visited_choice: Default::default(),
         };
         (0..20)
             .map(|seed| {

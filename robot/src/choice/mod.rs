@@ -39,6 +39,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::grid::{Grid, VertexId, NONE};
 use crate::lattice::MAX_DEGREE;
 use crate::map::{Map, RobotId};
+use crate::params::VisitedChoice;
 
 pub use registry::{register, rule_for, Factory, RuleName};
 
@@ -82,6 +83,8 @@ pub struct View<'a> {
     /// Vertices blocked for good as far as the robot knows (failed robots,
     /// silent bodies): paths must not cross them.
     pub blocked: &'a [VertexId],
+    /// The scenario's reading of rule (2) over visited candidates.
+    pub visited_choice: VisitedChoice,
 }
 
 impl View<'_> {

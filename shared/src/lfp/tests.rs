@@ -212,6 +212,26 @@ fn collisions_are_counted_when_forced() {
 }
 
 #[test]
+fn a_pair_still_in_contact_is_charged_once_per_event() {
+    // Blind robots crowded in a small box: pairs stay in contact across
+    // rounds. The reading changes the count, never the motion.
+    let box_with = |ru_collisions| {
+        let params = Params { ru_collisions, ..Params::default() };
+        World::new(rect(0.0, 0.0, 4.0, 4.0), vec![], vec![Point::new(100.0, 100.0)], params, LatticeKind::Triangular)
+    };
+    let (events, pairs) = (box_with(RuCollisions::PerEvent), box_with(RuCollisions::PerPair));
+    let starts = border_starts(&events, 9);
+    let blind = LfpParams { k_robot: 0.0, ..LfpParams::default() };
+    let c = RunConfig { max_rounds: 200, ..cfg(3, Situation::One) };
+    let (e, p) = (run(&events, &starts, &c, &blind), run(&pairs, &starts, &c, &blind));
+    assert_eq!(e.trajectories, p.trajectories);
+    assert!(0 < e.collisions && e.collisions < p.collisions, "events {}, pairs {}", e.collisions, p.collisions);
+    let move_time = Params::default().move_time();
+    let charged = |r: &RunResult| r.search_time_s - r.collisions as f64 * move_time;
+    assert!((charged(&e) - charged(&p)).abs() < 1e-6, "only the charge differs");
+}
+
+#[test]
 fn blind_robots_in_a_corridor_cannot_pass_unnoticed() {
     // The free band is 2 r_safe wide: two robots that do not repel cannot
     // pass each other without coming closer than 2 r_safe, and the

@@ -10,7 +10,7 @@ use super::{gaps, Scenario, ScenarioError, Starts};
 use crate::geometry::{Circle, Point, Polygon, Shape};
 use crate::lattice::{Lattice, LatticeKind};
 use crate::lfp::LfpParams;
-use crate::params::{Broadcast, Order, Params, RuCollisions, Situation, SlotRule};
+use crate::params::{Broadcast, Order, Params, RuCollisions, Situation, SlotRule, VisitedChoice};
 use crate::spot::{Spot, STEPS};
 
 /// A point as written: `[x, y]`, exactly two numbers. A plain `[f64; 2]`
@@ -90,6 +90,7 @@ struct RawParams {
     choices_update_maps: Option<bool>,
     survivor_step: Option<bool>,
     ru_collisions: Option<String>,
+    visited_choice: Option<String>,
     slot: Option<String>,
     order: Option<String>,
     broadcast: Option<String>,
@@ -395,6 +396,14 @@ impl RawParams {
                 ctx.err(
                     "params.ru_collisions",
                     format!("must be one of {}, got `{name}`", RuCollisions::NAMES.join(", ")),
+                )
+            })?;
+        }
+        if let Some(name) = self.visited_choice {
+            p.visited_choice = VisitedChoice::from_name(&name).ok_or_else(|| {
+                ctx.err(
+                    "params.visited_choice",
+                    format!("must be one of {}, got `{name}`", VisitedChoice::NAMES.join(", ")),
                 )
             })?;
         }
@@ -723,7 +732,7 @@ fn file_stem(file: &str) -> String {
 #[cfg(test)]
 mod tests {
     use crate::lfp::{RepelRange, Turn};
-    use crate::params::RuCollisions;
+    use crate::params::{RuCollisions, VisitedChoice};
     use crate::scenario::Scenario;
 
     const AREA: &str = "[area]\npolygon = [[0, 0], [10, 0], [10, 10], [0, 10]]\n";
@@ -735,12 +744,16 @@ mod tests {
     #[test]
     fn readings_default_to_the_papers_and_switch_by_name() {
         let s = parse("").unwrap();
-        assert_eq!(s.params.ru_collisions, RuCollisions::PerPair);
+        assert_eq!(s.params.ru_collisions, RuCollisions::PerEvent);
+        assert_eq!(s.params.visited_choice, VisitedChoice::Farthest);
         let sigma = crate::lfp::DEFAULT_TURN_SIGMA;
         assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(sigma), RepelRange::Sonar));
         let s = parse("[params]\nru_collisions = \"back-off\"\n[lfp]\nturn = 0.5\nrepel_range = \"radio\"\n").unwrap();
         assert_eq!(s.params.ru_collisions, RuCollisions::BackOff);
         assert_eq!((s.lfp.turn, s.lfp.repel_range), (Turn::Sigma(0.5), RepelRange::Radio));
+        let s = parse("[params]\nru_collisions = \"per-pair\"\nvisited_choice = \"random-biased\"\n").unwrap();
+        assert_eq!(s.params.ru_collisions, RuCollisions::PerPair);
+        assert_eq!(s.params.visited_choice, VisitedChoice::RandomBiased);
         assert_eq!(parse("[lfp]\nturn_sigma = 1\n").unwrap().lfp.turn, Turn::Sigma(1.0));
     }
 
@@ -761,7 +774,15 @@ mod tests {
     #[test]
     fn bad_readings_are_named_errors() {
         let e = parse("[params]\nru_collisions = \"pairs\"\n").unwrap_err();
-        assert!(e.contains("t.toml:4:17: params.ru_collisions: must be one of back-off, per-pair, got `pairs`"), "{e}");
+        assert!(
+            e.contains("t.toml:4:17: params.ru_collisions: must be one of per-event, per-pair, back-off, got `pairs`"),
+            "{e}"
+        );
+        let e = parse("[params]\nvisited_choice = \"random\"\n").unwrap_err();
+        assert!(
+            e.contains("params.visited_choice: must be one of farthest, uniform, random-biased, got `random`"),
+            "{e}"
+        );
         let e = parse("[lfp]\nturn = -0.5\n").unwrap_err();
         assert!(e.contains("lfp.turn: must be >= 0, got -0.5"), "{e}");
         let e = parse("[lfp]\nturn = \"normal\"\n").unwrap_err();

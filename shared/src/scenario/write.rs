@@ -81,6 +81,9 @@ impl Scenario {
         if !p.survivor_step {
             let _ = writeln!(s, "survivor_step = false");
         }
+        if p.visited_choice != crate::params::VisitedChoice::Farthest {
+            let _ = writeln!(s, "visited_choice = {}", quoted(p.visited_choice.name()));
+        }
         if geometry {
             self.write_geometry(&mut s);
         }
