@@ -313,7 +313,8 @@ fn check_fails_when_an_assumption_fails() {
     let f = d.join("weak.toml");
     // Sonar shorter than a + r_safe breaks Assumption 2.4; the scenario is
     // otherwise valid, so it still runs (with a warning).
-    fs::write(&f, "[area]\npolygon = [[0, 0], [12, 0], [12, 9], [0, 9]]\n\n[params]\nr_so = 1.0\n").unwrap();
+    fs::write(&f, "targets = [[3, 3]]\n[area]\npolygon = [[0, 0], [12, 0], [12, 9], [0, 9]]\n\n[params]\nr_so = 1.0\n")
+        .unwrap();
     let o = gridswarm(&["check", path(&f)]);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stdout(&o).contains("FAILS 2.4"), "{}", stdout(&o));

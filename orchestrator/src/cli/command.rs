@@ -192,6 +192,10 @@ enum Command {
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     ///
+    /// Also S0: robots on the lattice (adjacent, passing a vertex, or more than 2a apart and
+    /// moving at once) stay more than 2 r_safe apart; simulate and run refuse a set that fails
+    /// it under a collision-free algorithm (exit 4).
+    ///
     /// Every command's --scenario takes a built-in name, a TOML file, a ROS map_server map
     /// (NAME.yaml with its image; docs/scenario-format.md), or a random map, generated from
     /// its seed alone (the same text gives the same map everywhere):
