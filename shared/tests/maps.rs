@@ -416,6 +416,35 @@ fn sliver_w_pass_closes_the_turtlebot3_map_s_narrow_passages() {
     assert_eq!(narrow(&side), (vec![], true));
 }
 
+/// What `[map] sliver = W_pass` leaves (docs/scenario-format.md): two
+/// blocks whose corners are 1 m apart diagonally, open on both other
+/// sides, are no strip of free cells, and 3.1.3 still names their gap.
+#[test]
+fn sliver_w_pass_leaves_a_gap_between_corners_diagonally_apart() {
+    let dir = folder("diagonal");
+    let (w, h) = (120, 80);
+    let mut px = vec![WALL; w * h];
+    for y in 2..h - 2 {
+        for x in 2..w - 2 {
+            // Block A: columns 30..40, rows 20..30; B: 50..60, 30..40.
+            let a = (30..40).contains(&x) && (20..30).contains(&y);
+            let b = (50..60).contains(&x) && (30..40).contains(&y);
+            px[y * w + x] = if a || b { WALL } else { FREE };
+        }
+    }
+    let sidecar = format!("{SIDECAR}[map]\nsliver = 1.6\n");
+    let path = write_office(&dir, &pgm(w, h, &px), Some(&sidecar));
+    let s = Scenario::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.obstacles.len(), 2, "{s:?}");
+    let world = s.world();
+    let starts = s.start_vertices(&world, s.robots).unwrap();
+    let report = assumptions::check(&s, &world, &starts);
+    let c = report.get("3.1.3").unwrap();
+    assert!(!c.holds && c.detail.contains("obstacles[0] and obstacles[1]"), "{report}");
+    assert!(c.detail.contains(": 1.000 < W_pass = 1.600"), "{report}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_map_is_read_coarser_only_while_its_free_region_survives() {
     // Specks `gap` pixels apart: more obstacles than MAX_OBSTACLES in
