@@ -24,6 +24,27 @@ pub fn load_scenario_noted(name_or_path: &str) -> Result<(Scenario, Vec<String>)
     Scenario::load_noted(name_or_path).map_err(|e| Error::Scenario(e.to_string()))
 }
 
+/// Refuses a search in situation 1 of a scenario without targets: its stop
+/// rule (every target found) holds before the first move, so it would end
+/// "complete" after one round having searched nothing. `name` is what the
+/// command was given (`--scenario`), to say where targets go.
+pub fn needs_targets(scenario: &Scenario, name: &str) -> Result<()> {
+    if scenario.situation != gridswarm::params::Situation::One || !scenario.targets.is_empty() {
+        return Ok(());
+    }
+    let add = if gridswarm::scenario::occupancy::is_map(name) {
+        let side = gridswarm::scenario::occupancy::sidecar_path(std::path::Path::new(name));
+        format!("add `targets = [[x, y], ...]` to its sidecar {}", side.display())
+    } else {
+        format!("add `targets = [[x, y], ...]` to `{}`", crate::output::shown(name))
+    };
+    Err(Error::Scenario(format!(
+        "situation 1 needs targets: scenario `{}` has none, so a search would end at once as complete; {add}, \
+         or use --situation 2 (search until every reachable vertex is visited)",
+        crate::output::shown(&scenario.name)
+    )))
+}
+
 /// The start vertices of `robots` robots in `world`, robot `k` at index `k`.
 pub fn start_vertices(scenario: &Scenario, world: &World, robots: usize) -> Result<Vec<VertexId>> {
     scenario.start_vertices(world, robots).map_err(|e| Error::Scenario(e.to_string()))

@@ -25,6 +25,10 @@ pub enum Error {
     /// `gridswarm run`: a child process failed or the run was interrupted.
     #[error("{0}")]
     Run(String),
+    /// A search refused because its parameters let robots collide where
+    /// its algorithm promises they never do (`check`'s S0; exit 4).
+    #[error("{0}")]
+    Collision(String),
     /// A recorded file (a run directory's) that is missing or malformed.
     #[error("cannot read `{}`: {message}", path.display())]
     Read { path: PathBuf, message: String },
@@ -37,11 +41,35 @@ pub type Result<T> = std::result::Result<T, Error>;
 /// the round limit) or an assumption that fails (`check`).
 pub const EXIT_INCOMPLETE: u8 = 3;
 
+/// Exit status of a search in which robots collided under an algorithm
+/// that promises they never do (every grid rule but RU), or that was
+/// refused because its parameters would let them (`check`'s S0).
+pub const EXIT_COLLISION: u8 = 4;
+
+/// Whether robots collided in a run whose algorithm promises they never do.
+pub fn collided(r: &gridswarm::outcome::RunResult) -> bool {
+    r.algorithm.collision_free() && r.collisions > 0
+}
+
+/// A search's exit status: [`EXIT_COLLISION`] if it [`collided`] (even if
+/// it found everything), else 0 if it completed, [`EXIT_INCOMPLETE`] if not.
+pub fn search_status(r: &gridswarm::outcome::RunResult) -> u8 {
+    if collided(r) {
+        EXIT_COLLISION
+    } else if r.complete {
+        0
+    } else {
+        EXIT_INCOMPLETE
+    }
+}
+
 impl Error {
-    /// The process exit status for this error: 2 for usage errors, 1 otherwise.
+    /// The process exit status for this error: 2 for usage errors, 4 for a
+    /// search refused for its collisions, 1 otherwise.
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Usage(_) => 2,
+            Error::Collision(_) => EXIT_COLLISION,
             _ => 1,
         }
     }

@@ -313,7 +313,8 @@ fn check_fails_when_an_assumption_fails() {
     let f = d.join("weak.toml");
     // Sonar shorter than a + r_safe breaks Assumption 2.4; the scenario is
     // otherwise valid, so it still runs (with a warning).
-    fs::write(&f, "[area]\npolygon = [[0, 0], [12, 0], [12, 9], [0, 9]]\n\n[params]\nr_so = 1.0\n").unwrap();
+    fs::write(&f, "targets = [[3, 3]]\n[area]\npolygon = [[0, 0], [12, 0], [12, 9], [0, 9]]\n\n[params]\nr_so = 1.0\n")
+        .unwrap();
     let o = gridswarm(&["check", path(&f)]);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(stdout(&o).contains("FAILS 2.4"), "{}", stdout(&o));
@@ -381,9 +382,18 @@ fn simulate_json(args: &[&str]) -> serde_json::Value {
     let mut all = vec!["simulate", "--json"];
     all.extend_from_slice(args);
     let o = gridswarm(&all);
-    // Exit status 3: the search ended incomplete, as the summary says.
+    // Exit status 3: the search ended incomplete, 4: robots collided under
+    // an algorithm that promises they never do, as the summary says.
     let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("one JSON object");
-    assert_eq!(o.status.code(), Some(if v["complete"] == true { 0 } else { 3 }), "{}", stderr(&o));
+    let collided = v["collisions"].as_u64().unwrap() > 0 && v["algorithm"] != "ru";
+    let want = if collided {
+        4
+    } else if v["complete"] == true {
+        0
+    } else {
+        3
+    };
+    assert_eq!(o.status.code(), Some(want), "{}", stderr(&o));
     v
 }
 

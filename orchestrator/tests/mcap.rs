@@ -26,8 +26,9 @@ fn the_mcap_file_holds_every_channel_with_the_runs_counts() {
     let robots = ROBOTS.to_string();
     let args = ["simulate", "--robots", &robots, "--seed", "3", "--kill", "1@3", "--loss", "0.2", "--json"];
     let o = gridswarm(&[&args[..], &["--mcap", file.to_str().unwrap()]].concat());
-    // The search may end incomplete (exit 3) with a robot crashed; it must run.
-    assert!(matches!(o.status.code(), Some(0 | 3)), "{}", text(&o.stderr));
+    // The search may end incomplete (exit 3) with a robot crashed, or
+    // collide under loss (4); it must run.
+    assert!(matches!(o.status.code(), Some(0 | 3 | 4)), "{}", text(&o.stderr));
     let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
     let rounds = summary["rounds"].as_u64().unwrap() as usize;
     // Watching changes nothing: the same run without the file (but for the
@@ -139,5 +140,5 @@ fn a_websocket_client_of_the_live_view_receives_poses() {
     assert_eq!(poses.poses.len(), 3);
     drop(ws);
     let status = run.0.wait().unwrap();
-    assert!(matches!(status.code(), Some(0 | 3)), "{status:?}");
+    assert!(matches!(status.code(), Some(0 | 3 | 4)), "{status:?}");
 }

@@ -13,9 +13,9 @@
 
 use std::fmt;
 
-use crate::geometry::{Point, Polygon, Shape};
+use crate::geometry::{swept_min_distance, Point, Polygon, Shape};
 use crate::grid::VertexId;
-use crate::lattice::LatticeKind;
+use crate::lattice::{Coord, Lattice, LatticeKind};
 use crate::scenario::{self, Scenario};
 use crate::world::World;
 
@@ -97,6 +97,7 @@ pub fn check(s: &Scenario, w: &World, starts: &[VertexId]) -> Report {
         holds,
         detail: format!("r_safe = {:.2} {} r_rob = {:.2}", p.r_safe, if holds { ">" } else { "<=" }, p.r_rob),
     });
+    checks.push(spacing(p.a, p.r_safe, w.grid.lattice));
     checks.push(range("3.1.1", "target sensing range", "r_st", p.r_st, "a + r_safe", p.a + p.r_safe));
     let va = w.reachable_from(starts);
     checks.push(pockets(w, &va));
@@ -104,6 +105,106 @@ pub fn check(s: &Scenario, w: &World, starts: &[VertexId]) -> Report {
     checks.extend(reachability(s, w, starts, &va));
     checks.push(coverage(w, &va));
     Report { checks }
+}
+
+/// The nearest two robots on a lattice of side `a` come by geometry alone,
+/// whatever they decide: where the safety argument (ARCHITECTURE.md
+/// "Safety", S0) needs more than `2 r_safe`, in metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spacing {
+    /// Two robots standing on adjacent vertices: `a`.
+    pub adjacent: f64,
+    /// A robot standing on a vertex and one moving along an edge that does
+    /// not end there (`sqrt(3)/2 a` on the triangular lattice).
+    pub passing: f64,
+    /// Two robots more than `2a` apart (which Assumption 2.5's `r_c` need
+    /// not join) moving in the same slot, each along one edge or staying.
+    pub apart: f64,
+}
+
+impl Spacing {
+    /// Measured on the lattice around a vertex (both sublattices of the
+    /// honeycomb): every edge and vertex within `4a`, every pair of moves.
+    pub fn of(lattice: Lattice) -> Spacing {
+        let a = lattice.a;
+        let origins = match lattice.kind {
+            LatticeKind::Hexagonal => vec![Coord::new(1, 0), Coord::new(0, 1)],
+            _ => vec![Coord::new(0, 0)],
+        };
+        let moves = |c: Coord| {
+            let mut m = vec![c];
+            m.extend(lattice.offsets(c).iter().map(|&(di, dj)| Coord::new(c.i + di, c.j + dj)));
+            m
+        };
+        let mut s = Spacing { adjacent: f64::INFINITY, passing: f64::INFINITY, apart: f64::INFINITY };
+        for u in origins {
+            let p = lattice.position(u);
+            let d = crate::geometry::Vector::new(4.0 * a, 4.0 * a);
+            for v in lattice.coords_in_box(p - d, p + d) {
+                let q = lattice.position(v);
+                if v == u {
+                    continue;
+                }
+                for n in moves(u).into_iter().skip(1) {
+                    let pn = lattice.position(n);
+                    if n == v {
+                        s.adjacent = s.adjacent.min((q - p).norm());
+                    } else {
+                        s.passing = s.passing.min(swept_min_distance(p, pn, q, q));
+                    }
+                }
+                if (q - p).norm() <= 2.0 * a + TOL {
+                    continue;
+                }
+                for n in moves(u) {
+                    for m in moves(v) {
+                        let d = swept_min_distance(p, lattice.position(n), q, lattice.position(m));
+                        s.apart = s.apart.min(d);
+                    }
+                }
+            }
+        }
+        s
+    }
+
+    /// The three, each with what it is, as a phrase.
+    pub fn described(&self) -> [(f64, String); 3] {
+        [
+            (self.adjacent, format!("robots on adjacent vertices are {:.3} m apart", self.adjacent)),
+            (
+                self.passing,
+                format!("a robot moving along an edge passes one on a vertex off it {:.3} m away", self.passing),
+            ),
+            (self.apart, format!("two robots more than 2a apart moving in one slot come {:.3} m close", self.apart)),
+        ]
+    }
+
+    /// The nearest of the three, and what it is.
+    pub fn nearest(&self) -> (f64, String) {
+        self.described().into_iter().min_by(|x, y| x.0.total_cmp(&y.0)).expect("three distances")
+    }
+}
+
+/// S0: no two robots come within `2 r_safe` where geometry alone decides.
+/// The protocol keeps robots that hear each other apart by the moves it
+/// allows; what it cannot choose is where robots stand (adjacent vertices
+/// are `a` apart), that a vertex lies beside an edge, and the moves of
+/// robots beyond each other's radio. If any of these is within `2 r_safe`
+/// (the referee's collision test, a strict `<` on distances the lattice
+/// gives to rounding), robots collide by the parameters, not the rule:
+/// `a = 0.5, r_safe = 0.25` counted 580 collisions in one run on `paper`.
+fn spacing(a: f64, r_safe: f64, lattice: Lattice) -> Check {
+    let limit = 2.0 * r_safe;
+    let spacing = Spacing::of(lattice);
+    let near: Vec<String> =
+        spacing.described().into_iter().filter(|(d, _)| *d <= limit + TOL).map(|(_, what)| what).collect();
+    let title = "robots on the lattice keep more than 2 r_safe apart";
+    let detail = if near.is_empty() {
+        format!("a = {a}, r_safe = {r_safe}: at the nearest, {}, more than 2 r_safe = {limit:.3}", spacing.nearest().1)
+    } else {
+        format!("a = {a}, r_safe = {r_safe}: {}, not more than 2 r_safe = {limit:.3}", near.join("; "))
+    };
+    Check { id: "S0", title, holds: near.is_empty(), detail }
 }
 
 /// Covering radius of the lattice: no point of the plane is farther than
@@ -244,32 +345,77 @@ fn pockets(w: &World, va: &[bool]) -> Check {
 fn passages(w: &World) -> Check {
     let p = &w.params;
     let w_pass = p.a + 2.0 * p.r_safe;
-    let wide = scenario::limits::PASSAGE_SIDES * p.a + TOL;
-    let passage = |g: &scenario::Gap| g.width > 0.0 && g.width <= wide;
     let title = "passages at least W_pass = a + 2 r_safe wide";
-    // Only pieces whose boxes are within 3a can make a passage; admission
-    // bounded what measuring them costs (limits::MAX_PAIR_WORK).
-    let near = match scenario::near_pairs(&w.area, &w.obstacles, wide, wide, scenario::limits::MAX_PAIR_WORK) {
-        Ok(near) => near,
-        Err(c) => {
+    let found = match measured_passages(w) {
+        Ok(found) => found,
+        Err(at) => {
             return Check {
                 id: "3.1.3",
                 title,
                 holds: false,
                 detail: format!(
                     "not measured: obstacles crowd near ({:.2}, {:.2}) past the limit MAX_PAIR_WORK",
-                    c.at.x, c.at.y
+                    at.x, at.y
                 ),
             }
         }
     };
+    match found.first() {
+        None => Check {
+            id: "3.1.3",
+            title,
+            holds: true,
+            detail: format!("no passage narrower than 3a = {:.2}; W_pass = {:.2}", 3.0 * p.a, w_pass),
+        },
+        Some(g) => {
+            let holds = at_least(g.width, w_pass);
+            Check {
+                id: "3.1.3",
+                title,
+                holds,
+                detail: format!(
+                    "narrowest of {} passages: {} near ({:.2}, {:.2}): {:.3} {} W_pass = {:.3}",
+                    found.len(),
+                    g.between,
+                    g.at.x,
+                    g.at.y,
+                    g.width,
+                    cmp(holds),
+                    w_pass
+                ),
+            }
+        }
+    }
+}
+
+/// A passage as 3.1.3 measures it: the two sides, its middle, its width.
+#[derive(Clone, Copy, Debug)]
+pub struct Passage {
+    pub between: Between,
+    pub at: Point,
+    pub width: f64,
+}
+
+/// Every passage of `w` that 3.1.3 measures (wider than 0, at most `3a`),
+/// narrowest first; where the obstacles crowd past `MAX_PAIR_WORK`, the
+/// place, unmeasured. A gap across a polygon's own concavity counts only
+/// if its middle lies on the free side: two steps of a pixel outline on
+/// either side of a one-pixel spur face each other across the spur, not
+/// across free space (the TurtleBot3 map's wall had such a pair).
+pub fn measured_passages(w: &World) -> Result<Vec<Passage>, Point> {
+    let p = &w.params;
+    let wide = scenario::limits::PASSAGE_SIDES * p.a + TOL;
+    let passage = |g: &scenario::Gap| g.width > 0.0 && g.width <= wide;
+    // Only pieces whose boxes are within 3a can make a passage; admission
+    // bounded what measuring them costs (limits::MAX_PAIR_WORK).
+    let near =
+        scenario::near_pairs(&w.area, &w.obstacles, wide, wide, scenario::limits::MAX_PAIR_WORK).map_err(|c| c.at)?;
     let edges: Vec<(Point, Point)> = w.area.edges().collect();
     let mut boundary = vec![Vec::new(); w.obstacles.len()];
     for &(i, e) in &near.boundary {
         boundary[i as usize].push(edges[e as usize]);
     }
     let mut pairs = near.obstacles.iter().peekable();
-    // Named only when shown: pairs may be many.
     let mut found: Vec<(Between, scenario::Gap)> = Vec::new();
     for (i, o) in w.obstacles.iter().enumerate() {
         while let Some(&(_, j)) = pairs.next_if(|&&(a, _)| a as usize == i) {
@@ -284,46 +430,25 @@ fn passages(w: &World) -> Check {
         }
         if let Shape::Polygon(poly) = o {
             for (x, y, g) in scenario::self_passages(poly, false) {
-                found.push((Between::ObstacleEdges(i, x, y), g));
+                if passage(&g) && !poly.contains(g.midpoint()) {
+                    found.push((Between::ObstacleEdges(i, x, y), g));
+                }
             }
         }
     }
     for (x, y, g) in scenario::self_passages(&w.area, true) {
-        found.push((Between::AreaEdges(x, y), g));
-    }
-    found.retain(|(_, g)| passage(g));
-    let narrowest = found.iter().min_by(|a, b| a.1.width.total_cmp(&b.1.width));
-    match narrowest {
-        None => Check {
-            id: "3.1.3",
-            title,
-            holds: true,
-            detail: format!("no passage narrower than 3a = {:.2}; W_pass = {:.2}", 3.0 * p.a, w_pass),
-        },
-        Some((what, g)) => {
-            let holds = at_least(g.width, w_pass);
-            let m = g.midpoint();
-            Check {
-                id: "3.1.3",
-                title,
-                holds,
-                detail: format!(
-                    "narrowest of {} passages: {what} near ({:.2}, {:.2}): {:.3} {} W_pass = {:.3}",
-                    found.len(),
-                    m.x,
-                    m.y,
-                    g.width,
-                    cmp(holds),
-                    w_pass
-                ),
-            }
+        if passage(&g) && w.area.contains(g.midpoint()) {
+            found.push((Between::AreaEdges(x, y), g));
         }
     }
+    found.retain(|(_, g)| passage(g));
+    found.sort_by(|a, b| a.1.width.total_cmp(&b.1.width));
+    Ok(found.into_iter().map(|(between, g)| Passage { between, at: g.midpoint(), width: g.width }).collect())
 }
 
 /// The two sides of a passage.
 #[derive(Clone, Copy, Debug)]
-enum Between {
+pub enum Between {
     Obstacles(usize, usize),
     Boundary(usize),
     ObstacleEdges(usize, usize, usize),
@@ -386,11 +511,15 @@ fn reachability(s: &Scenario, w: &World, starts: &[VertexId], va: &[bool]) -> Ve
         .map(|(t, _)| format!("targets[{t}] ({:.2}, {:.2})", w.targets[t].x, w.targets[t].y))
         .collect();
     let situation = s.situation.number();
+    // Situation 1 stops when every target is found: with none, at once.
+    let none = w.targets.is_empty() && s.situation == crate::params::Situation::One;
     out.push(Check {
         id: "targets",
         title: "every target within r_st of a vertex of Va",
-        holds: missing.is_empty(),
-        detail: if missing.is_empty() {
+        holds: missing.is_empty() && !none,
+        detail: if none {
+            "no targets in situation 1: the search would stop before the first move".into()
+        } else if missing.is_empty() {
             format!("{} of {} targets detectable (situation {situation})", w.targets.len(), w.targets.len())
         } else {
             format!("not detectable from Va: {}", missing.join(", "))

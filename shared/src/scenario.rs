@@ -69,7 +69,7 @@ mod write;
 
 pub use starts::StartRule;
 
-pub use file::{MAX_FILE_BYTES, MAX_IMAGE_BYTES};
+pub use file::{read as read_file, MAX_FILE_BYTES, MAX_IMAGE_BYTES};
 pub(crate) use gaps::{boundary_gap_of, self_passages, shape_gap, Gap};
 pub(crate) use pairs::near as near_pairs;
 

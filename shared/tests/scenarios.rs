@@ -68,12 +68,60 @@ fn report_lists_every_check_once() {
     let s = Scenario::builtin("paper").unwrap();
     let (_, _, r) = report(&s, 3);
     let ids: Vec<&str> = r.checks.iter().map(|c| c.id).collect();
-    assert_eq!(ids, ["2.4", "2.5", "r_safe", "3.1.1", "3.1.2", "3.1.3", "Va", "starts", "targets", "coverage"]);
+    assert_eq!(ids, ["2.4", "2.5", "r_safe", "S0", "3.1.1", "3.1.2", "3.1.3", "Va", "starts", "targets", "coverage"]);
     let text = r.to_string();
     assert_eq!(text.lines().count(), r.checks.len());
     assert!(text.lines().all(|l| l.starts_with("ok ")), "{text}");
     assert!(text.contains("r_so = 1.30 >= a + r_safe = 1.30"), "{text}");
     assert!(text.contains("r_c = 2.05 >= 2a + r_safe - r_rob = 2.05"), "{text}");
+}
+
+#[test]
+fn s0_fails_where_geometry_alone_brings_robots_within_2_r_safe() {
+    // Issue 36's reproducer: adjacent vertices exactly 2 r_safe apart.
+    let with = |a: f64, r_safe: f64| {
+        let mut s = Scenario::parse(BASE, "t.toml").unwrap();
+        s.params = gridswarm::params::Params::derived(a, 0.2, r_safe);
+        report(&s, 2).2.get("S0").unwrap().clone()
+    };
+    let c = with(0.5, 0.25);
+    assert!(!c.holds, "{c:?}");
+    assert!(c.detail.contains("robots on adjacent vertices are 0.500 m apart"), "{c:?}");
+    assert!(c.detail.contains("passes one on a vertex off it 0.433 m away"), "{c:?}");
+    assert!(c.detail.ends_with("not more than 2 r_safe = 0.500"), "{c:?}");
+    // a = 0.51 has no collision in that run, but a robot passing another
+    // along an edge comes within sqrt(3)/2 a = 0.442 < 0.5: the premise of
+    // the safety argument (ARCHITECTURE.md "Safety", S0) fails.
+    assert!(!with(0.51, 0.25).holds);
+    assert!(with(0.58, 0.25).holds && !with(0.57, 0.25).holds);
+    let ok = with(1.0, 0.3);
+    assert!(ok.holds && ok.detail.contains("0.866 m away, more than 2 r_safe = 0.600"), "{ok:?}");
+}
+
+#[test]
+fn the_lattices_nearest_approaches_are_what_s0_says() {
+    use gridswarm::assumptions::Spacing;
+    use gridswarm::lattice::Lattice;
+    let s = Spacing::of(Lattice::new(LatticeKind::Triangular, 1.0));
+    assert!((s.adjacent - 1.0).abs() < 1e-12 && (s.passing - 3f64.sqrt() / 2.0).abs() < 1e-12, "{s:?}");
+    // Robots more than 2a apart (sqrt(7) a at the nearest) can end on
+    // adjacent vertices, a apart, and come no closer: the lattice colouring
+    // (Lattice::class) rests on this.
+    assert!((s.apart - 1.0).abs() < 1e-12, "{s:?}");
+    let sq = Spacing::of(Lattice::new(LatticeKind::Square, 2.0));
+    assert!((sq.adjacent - 2.0).abs() < 1e-12 && (sq.passing - 2.0).abs() < 1e-12, "{sq:?}");
+    let hex = Spacing::of(Lattice::new(LatticeKind::Hexagonal, 1.0));
+    assert!((hex.adjacent - 1.0).abs() < 1e-12 && hex.passing > 0.8 && hex.apart > 0.0, "{hex:?}");
+}
+
+#[test]
+fn situation_1_without_targets_fails_the_targets_check() {
+    let mut s = Scenario::parse(BASE, "t.toml").unwrap();
+    s.targets.clear();
+    let c = report(&s, 2).2.get("targets").unwrap().clone();
+    assert!(!c.holds && c.detail.contains("no targets in situation 1"), "{c:?}");
+    s.situation = Situation::Two;
+    assert!(report(&s, 2).2.get("targets").unwrap().holds);
 }
 
 #[test]

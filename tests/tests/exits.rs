@@ -50,6 +50,16 @@ fn every_documented_exit_status_case_exits_as_the_readme_s_table_says() {
         readme.lines().find(|l| l.starts_with(&head)).unwrap_or_else(|| panic!("no row {code} in README's table"))
     };
     let unwritable = "/proc/gridswarm-unwritable";
+    // Adjacent vertices exactly 2 r_safe apart: S0 fails.
+    let dir = scratch("exits-s0");
+    let tight = dir.join("tight.toml");
+    fs::write(
+        &tight,
+        "targets = [[3.0, 3.0]]\n[area]\npolygon = [[0, 0], [8, 0], [8, 8], [0, 8]]\n\
+         [params]\na = 0.5\nr_rob = 0.2\nr_safe = 0.25\n",
+    )
+    .unwrap();
+    let tight = tight.to_str().unwrap();
     let cases: &[(&[&str], i32, &str)] = &[
         (&["simulate", "--robots", "3", "--seed", "2"], 0, "the search completed"),
         (&["check", "paper"], 0, "the command did its work"),
@@ -85,6 +95,9 @@ fn every_documented_exit_status_case_exits_as_the_readme_s_table_says() {
         (&["credentials", "--out", "/tmp", "--robots", "2"], 1, "unwritable output"),
         (&["simulate", "--robots", "3", "--seed", "2", "--max-rounds", "2"], 3, "the search ended incomplete"),
         (&["check", "random:5,break=3.1.2"], 3, "`check` found a failing assumption"),
+        (&["simulate", "--robots", "13", "--seed", "1", "--loss", "0.5", "--max-rounds", "400"], 4, "robots collided"),
+        (&["simulate", "--scenario", tight], 4, "the run was refused"),
+        (&["run", "--scenario", tight], 4, "`check`'s S0 fails"),
     ];
     for &(args, want, words) in cases {
         assert!(row(want).contains(words), "README's row {want} does not say {words:?}: {}", row(want));
@@ -105,7 +118,7 @@ fn the_help_lists_the_exit_statuses() {
     assert_eq!(code, Some(0));
     let help = text(&out.stdout);
     let table = &help[help.find("Exit status:").expect("an exit status section")..];
-    for line in ["0  success", "1  error", "2  usage error", "3  the search ended incomplete"] {
+    for line in ["0  success", "1  error", "2  usage error", "3  the search ended incomplete", "4  robots collided"] {
         assert!(table.contains(line), "no {line:?} in {table}");
     }
 }

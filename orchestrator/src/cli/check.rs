@@ -77,14 +77,38 @@ pub fn hint(id: &str) -> &'static str {
         "2.4" => "raise `r_so` in [params] to at least a + r_safe (or drop it: the default is that bound)",
         "2.5" => "raise `r_c` in [params] to at least 2a + r_safe - r_rob (or drop it: the default is that bound)",
         "r_safe" => "make `r_safe` larger than `r_rob` in [params]",
+        "S0" => {
+            "raise `a` or lower `r_safe` in [params] until the named distance exceeds 2 r_safe \
+                 (on the triangular grid: r_safe below sqrt(3)/4 a = 0.433 a)"
+        }
         "3.1.1" => "raise `r_st` in [params] to at least a + r_safe (or drop it: the default is that bound)",
         "3.1.2" => "open the named corner (a wider angle), move it nearer the accessible grid, or raise `r_st`",
         "3.1.3" => "move the named obstacle or wall apart to at least W_pass = a + 2 r_safe, or close the gap entirely",
         "Va" => "join the unreachable part to the rest with a passage at least a + 2 r_safe wide, or add a start there",
         "starts" => "give each robot its own start point inside the accessible area ([starts] points), or fewer robots",
-        "targets" => "move each named target within r_st of an accessible vertex, or raise `r_st`",
+        "targets" => {
+            "move each named target within r_st of an accessible vertex, or raise `r_st`; with none, add \
+             `targets = [[x, y], ...]` (a map's sidecar) or set `situation = 2`"
+        }
         "coverage" => "widen the narrow parts near the named points, or raise `r_st` so their walls are in range",
         _ => "see docs/paper.md \"The world\" for what the assumption asks",
+    }
+}
+
+/// Refuses a search under `policy` when its parameters let robots collide
+/// where the policy promises they never do (S0): such a run would count
+/// collisions and might still read as complete. RU (particles, charged
+/// for each collision) and LFP (off the lattice) run with the warning.
+pub fn refuse(report: &Report, policy: gridswarm::policy::Policy) -> Result<()> {
+    match report.get("S0") {
+        Some(c) if !c.holds && policy.collision_free() => Err(crate::error::Error::Collision(format!(
+            "refused: S0 ({}) does not hold: {}; `{policy}` promises no collision, so a run would only count \
+             them; fix: {}",
+            c.title,
+            c.detail,
+            hint("S0")
+        ))),
+        _ => Ok(()),
     }
 }
 

@@ -8,14 +8,16 @@
 //! Exit status ([`EXIT_STATUS`]): 0 success; 1 an error (bad scenario,
 //! unwritable output, a failed child, a signal, ...); 2 a usage error
 //! (unknown algorithm, bad robot range, ...); 3 the search ended incomplete
-//! (`simulate`, `run`) or `check` found an assumption that does not hold.
+//! (`simulate`, `run`) or `check` found an assumption that does not hold;
+//! 4 robots collided under an algorithm that promises they never do, or
+//! its parameters would let them (`check`'s S0) and the search was refused.
 
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::error::EXIT_INCOMPLETE;
+use crate::error::{EXIT_COLLISION, EXIT_INCOMPLETE};
 use crate::experiment::{self, ExperimentOptions, DEFAULT_ALGORITHMS, DEFAULT_OUT, DEFAULT_ROBOTS, DEFAULT_RUNS};
 use crate::failures::{self, FailuresOptions};
 use crate::faults::{FaultFlags, RunBase};
@@ -192,6 +194,10 @@ enum Command {
     },
     /// Validate a scenario and report which of the paper's assumptions hold.
     ///
+    /// Also S0: robots on the lattice (adjacent, passing a vertex, or more than 2a apart and
+    /// moving at once) stay more than 2 r_safe apart; simulate and run refuse a set that fails
+    /// it under a collision-free algorithm (exit 4).
+    ///
     /// Every command's --scenario takes a built-in name, a TOML file, a ROS map_server map
     /// (NAME.yaml with its image; docs/scenario-format.md), or a random map, generated from
     /// its seed alone (the same text gives the same map everywhere):
@@ -238,6 +244,23 @@ enum Command {
         /// Pixel side of the map's image, m [default: a / 10].
         #[arg(long, value_parser = positive_length)]
         resolution: Option<f64>,
+    },
+    /// Write a map's sidecar sized for a robot: r_rob, r_safe = 1.2 r_rob, a the smallest whole
+    /// centimetre meeting S0, r_so, r_st and r_c from the assumptions, [map] sliver = W_pass;
+    /// says which passages the robot cannot take and checks the map as the sidecar reads it.
+    /// Keeps the map's sidecar's other keys (targets, starts, ...). Exits 3 if a check fails.
+    MapSetup {
+        /// The map (NAME.yaml).
+        map: String,
+        /// The robot's radius, m.
+        #[arg(long, value_parser = positive_length)]
+        robot_radius: f64,
+        /// The file to write [default: NAME.gridswarm.toml beside the map, the sidecar it reads].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Replace the file if it exists.
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -384,7 +407,10 @@ const EXIT_STATUS: &str = "Exit status:
   3  the search ended incomplete (simulate, run: every robot failed, cut off, a stop that knew
      targets unfound (exhausted) or came on an incomplete search (false_stop), or the round limit
      reached, --max-rounds or simulate's work budget; its outputs are written), or `check` found a
-     failing assumption";
+     failing assumption (or `map-setup` wrote a sidecar with which one fails)
+  4  robots collided under an algorithm that promises they never do (simulate, run: every grid
+     algorithm but ru; its outputs are written), or the run was refused because the parameters let
+     them (check S0 fails: robots on adjacent vertices, or passing or moving at once, within 2 r_safe)";
 
 /// Writes to stdout without `print!`'s panic on a closed pipe
 /// (`gridswarm experiment | head` must not end in a panic).
@@ -540,9 +566,9 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
                 faults: faults.plan(),
                 view,
             };
-            let (text, complete) = simulate::simulate(&opts)?;
+            let (text, status) = simulate::simulate(&opts)?;
             emit(&text);
-            return Ok(finished(complete));
+            return Ok(finished(status));
         }
         Command::Experiment { kind: Some(kind), .. } => emit(&experiment_kind(kind)?),
         Command::Experiment { scenario: ScenarioArg { scenario }, out, grids: true, .. } => {
@@ -632,15 +658,23 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             let plan = faults.plan();
             plan.check_scenario(&base)?;
             let opts = crate::run::RunOptions { net: net.options(), view, ..plan.run_options(base) };
-            let (text, complete) = crate::run::run(&opts)?;
+            let (text, status) = crate::run::run(&opts)?;
             emit(&text);
-            return Ok(finished(complete));
+            return Ok(finished(status));
         }
         Command::Credentials(args) => emit(&crate::cli::credentials::run(&args)?),
         Command::Setup(args) => emit(&crate::cli::setup::write(&args)?),
         Command::ExportMap { scenario, format, out, resolution } => {
             let opts = crate::cli::export::ExportOptions { scenario, format, out, resolution };
             emit(&crate::cli::export::export(&opts)?);
+        }
+        Command::MapSetup { map, robot_radius, out, force } => {
+            let opts = crate::cli::map_setup::MapSetupOptions { map, robot_radius, out, force };
+            let (text, holds) = crate::cli::map_setup::run(&opts)?;
+            emit(&text);
+            if !holds {
+                return Ok(ExitCode::from(EXIT_INCOMPLETE));
+            }
         }
         Command::Check { scenario } => {
             let outcome = check::check(&scenario)?;
@@ -654,9 +688,16 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// A search's exit status: 0 if it completed, 3 if not.
-fn finished(complete: bool) -> ExitCode {
-    ExitCode::from(if complete { 0 } else { EXIT_INCOMPLETE })
+/// A search's exit status ([`crate::error::search_status`]), said on
+/// stderr too when robots collided (the summary alone would read complete).
+fn finished(status: u8) -> ExitCode {
+    if status == EXIT_COLLISION {
+        eprintln!(
+            "error: robots collided under an algorithm that promises they never do (`collisions` in the \
+             summary); `gridswarm check` says whether the parameters let them (S0)"
+        );
+    }
+    ExitCode::from(status)
 }
 
 /// The `gridswarm` command with `rules` (name, factory) as algorithms

@@ -42,13 +42,14 @@ pub struct SimulateOptions {
 }
 
 /// Runs once; returns the text for stdout (warnings go to stderr directly)
-/// and whether the search completed.
-pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
+/// and the exit status ([`crate::error::search_status`]).
+pub fn simulate(opts: &SimulateOptions) -> Result<(String, u8)> {
     let mut scenario = contract::load_scenario(&opts.scenario)?;
     let scenario_id = ScenarioId::of(&scenario);
     if let Some(s) = opts.situation {
         scenario.situation = s;
     }
+    contract::needs_targets(&scenario, &opts.scenario)?;
     let robots = opts.robots.unwrap_or(scenario.robots);
     if robots == 0 {
         return Err(Error::Input("at least 1 robot is needed".into()));
@@ -70,7 +71,9 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     let (max_rounds, budget) =
         round_limit(opts.max_rounds, &world, robots, opts.algorithm, frames).map_err(Error::Input)?;
     let starts = contract::starts(&scenario, &world, robots, opts.faults.starts, opts.seed)?;
-    for w in check::warnings(&contract::check_assumptions(&scenario, &world, &starts)) {
+    let report = contract::check_assumptions(&scenario, &world, &starts);
+    check::refuse(&report, opts.algorithm)?;
+    for w in check::warnings(&report) {
         eprintln!("{w}");
     }
     let lfp = contract::lfp_params(&scenario);
@@ -126,7 +129,7 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
         }
         return Ok((
             format!("{}\n", serde_json::to_string(&summary).expect("a JSON value serialises")),
-            result.complete,
+            crate::error::search_status(&result),
         ));
     }
     let mut text = output::headline(&scenario, &result, "", "");
@@ -134,7 +137,7 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, bool)> {
     for p in written {
         text += &format!("wrote {}\n", p.display());
     }
-    Ok((text, result.complete))
+    Ok((text, crate::error::search_status(&result)))
 }
 
 /// A round limit the work budget lowered: what it was lowered from.

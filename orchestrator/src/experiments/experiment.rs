@@ -123,6 +123,7 @@ pub fn run(opts: &ExperimentOptions) -> Result<(Sweep, String)> {
         if let Some(s) = opts.situation {
             m.scenario.situation = s;
         }
+        contract::needs_targets(&m.scenario, &opts.scenario)?;
     }
     if !opts.set.is_empty() {
         return crate::set_sweep::run(opts, &algorithms, &maps, started);

@@ -147,6 +147,7 @@ pub fn run(opts: &ReadingsOptions) -> Result<(Readings, String)> {
     if let Some(s) = opts.situation {
         scenario.situation = s;
     }
+    contract::needs_targets(&scenario, &opts.scenario)?;
     let stage = Staging::begin(&opts.out)?;
     let curves = curves(opts);
     let worlds: Vec<World> = opts.ru.iter().map(|&r| with_ru(&scenario, r).world()).collect();

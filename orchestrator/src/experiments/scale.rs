@@ -382,6 +382,7 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
             if let Some(sit) = opts.situation {
                 s.situation = sit;
             }
+            contract::needs_targets(&s, &name)?;
             let w = s.world();
             worlds.insert(name.clone(), (s, w));
         }

@@ -99,6 +99,7 @@ impl ProtocolOptions {
         if let Some(s) = self.situation {
             scenario.situation = s;
         }
+        contract::needs_targets(&scenario, &self.scenario)?;
         Ok(scenario)
     }
 

@@ -196,7 +196,8 @@ fn with_value(mut args: Vec<String>, flag: &str, value: &str) -> Vec<String> {
 }
 
 /// Runs this program with `args`; its stdout discarded, its stderr shown.
-/// A search that ended incomplete (status 3) repeated its outputs too.
+/// A search that ended incomplete (status 3) or with robots collided (4)
+/// repeated its outputs too.
 fn run_child(args: &[String]) -> Result<()> {
     let exe = std::env::current_exe().map_err(|e| Error::Run(format!("cannot find this program: {e}")))?;
     let status = Command::new(exe)
@@ -206,7 +207,9 @@ fn run_child(args: &[String]) -> Result<()> {
         .map_err(|e| Error::Run(format!("cannot start the rerun: {e}")))?;
     match status.code() {
         Some(0) => Ok(()),
-        Some(c) if c == i32::from(crate::error::EXIT_INCOMPLETE) => Ok(()),
+        Some(c) if c == i32::from(crate::error::EXIT_INCOMPLETE) || c == i32::from(crate::error::EXIT_COLLISION) => {
+            Ok(())
+        }
         _ => Err(Error::Run(format!("the rerun `gridswarm {}` failed ({status})", args.join(" ")))),
     }
 }

@@ -123,7 +123,13 @@ pub fn csv_num(x: Option<f64>) -> String {
 /// line (e.g. ": one process per robot"); `extra` goes before the coverage.
 pub fn headline(scenario: &Scenario, result: &RunResult, engine: &str, extra: &str) -> String {
     let ended = &result.protocol.ended_by;
-    let how = if result.complete { "complete" } else { "INCOMPLETE" };
+    // A collision its algorithm promises against outweighs a complete search.
+    let how = match (crate::error::collided(result), result.complete) {
+        (true, true) => "COLLIDED, search complete",
+        (true, false) => "COLLIDED, search INCOMPLETE",
+        (false, true) => "complete",
+        (false, false) => "INCOMPLETE",
+    };
     let mut s = format!(
         "scenario {} ({} grid), algorithm {} [{}], {} robots, seed {}, situation {}{engine}\n\
          {how} ({}: {}) after {} rounds: {:.1} s simulated search time; targets {}/{}; collisions {}; {extra}coverage {}\n",

@@ -17,7 +17,7 @@ pub const MAX_FILE_BYTES: u64 = 1 << 20;
 pub const MAX_IMAGE_BYTES: u64 = 64 << 20;
 
 /// Why a file could not be read, as the tail of the error's message.
-pub(crate) fn read(path: &str) -> Result<String, String> {
+pub fn read(path: &str) -> Result<String, String> {
     let bytes = read_bytes(path, "scenario file", MAX_FILE_BYTES, "MAX_FILE_BYTES")?;
     String::from_utf8(bytes).map_err(|e| format!("cannot read scenario file: not UTF-8 text ({e})"))
 }

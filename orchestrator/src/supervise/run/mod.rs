@@ -128,10 +128,11 @@ impl RunOptions {
     }
 }
 
-/// Runs once; returns the text for stdout and whether the search completed.
-pub fn run(opts: &RunOptions) -> Result<(String, bool)> {
+/// Runs once; returns the text for stdout and the exit status
+/// ([`crate::error::search_status`]).
+pub fn run(opts: &RunOptions) -> Result<(String, u8)> {
     let done = perform(opts, false)?;
-    let complete = done.result.complete;
+    let complete = crate::error::search_status(&done.result);
     if opts.json {
         return Ok((format!("{}\n", serde_json::to_string(&done.summary).expect("a JSON value serialises")), complete));
     }
@@ -250,6 +251,7 @@ impl Overrides {
         if let Some(s) = self.situation {
             scenario.situation = s;
         }
+        contract::needs_targets(&scenario, name)?;
         if let Some(r) = self.retries {
             scenario.params.retries = r;
         }
@@ -296,7 +298,9 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
     let plan = plan(opts)?;
     admit(plan.robots)?;
     let stage = opts.out.as_deref().map(Staging::begin).transpose()?;
-    for w in check::warnings(&contract::check_assumptions(&plan.scenario, &plan.world, &plan.starts)) {
+    let report = contract::check_assumptions(&plan.scenario, &plan.world, &plan.starts);
+    check::refuse(&report, plan.cfg.policy)?;
+    for w in check::warnings(&report) {
         warn(w);
     }
     let world_bin = launch::binary("world-server").map_err(Error::Run)?;

@@ -51,8 +51,22 @@ pub struct Converted {
     pub notes: Vec<String>,
 }
 
-/// The map at `path` as a scenario.
+/// The map at `path` as a scenario, with its sidecar if it has one.
 pub fn load(path: &str) -> Result<Converted, ScenarioError> {
+    let side = sidecar_path(Path::new(path));
+    let side_shown = side.display().to_string();
+    if std::fs::symlink_metadata(&side).is_err() {
+        return load_with(path, None);
+    }
+    let text =
+        file::read(&side_shown).map_err(|e| ScenarioError::new(path, None, "", format!("`{side_shown}`: {e}")))?;
+    load_with(path, Some((&side_shown, &text)))
+}
+
+/// The map at `path` as a scenario, with `sidecar` (its name as errors
+/// show it, and its text) in place of whatever sidecar lies beside it:
+/// how `gridswarm map-setup` tries a sidecar before writing it.
+pub fn load_with(path: &str, sidecar: Option<(&str, &str)>) -> Result<Converted, ScenarioError> {
     let fail = |field: &str, m: String| ScenarioError::new(path, None, field, m);
     let text = file::read(path).map_err(|e| fail("", e.replace("scenario file", "map file")))?;
     let meta = yaml::parse(&text).map_err(|(f, m, line)| ScenarioError::new(path, line.map(|l| (l, 1)), f, m))?;
@@ -62,16 +76,9 @@ pub fn load(path: &str) -> Result<Converted, ScenarioError> {
         .map_err(|e| fail("image", format!("`{shown}`: {e}")))?;
     let raster = image::decode(&bytes, &meta).map_err(|e| fail("image", format!("`{shown}` {e}")))?;
 
-    let side = sidecar_path(Path::new(path));
-    let has_side = std::fs::symlink_metadata(&side).is_ok();
-    let side_shown = side.display().to_string();
-    let side_text = if has_side {
-        file::read(&side_shown).map_err(|e| fail("", format!("`{side_shown}`: {e}")))?
-    } else {
-        String::new()
-    };
-    let ctx_file = if has_side { side_shown.as_str() } else { path };
-    let ctx = Ctx { text: &side_text, file: ctx_file, tree: toml::from_str::<Node>(&side_text).ok() };
+    let has_side = sidecar.is_some();
+    let (side_shown, side_text) = sidecar.unwrap_or((path, ""));
+    let ctx = Ctx { text: side_text, file: side_shown, tree: toml::from_str::<Node>(side_text).ok() };
     let sidecar = RawSidecar::parse(&ctx)?;
     let unknown_free = match sidecar.map.unknown.as_deref() {
         None | Some("blocked") => false,
@@ -115,7 +122,8 @@ pub fn load(path: &str) -> Result<Converted, ScenarioError> {
     notes.push(if has_side {
         format!("targets, starts and parameters from {side_shown}")
     } else {
-        format!("no sidecar {side_shown}: no targets, the robots start along the border, default parameters")
+        let side = sidecar_path(Path::new(path));
+        format!("no sidecar {}: no targets, the robots start along the border, default parameters", side.display())
     });
     Ok(Converted { scenario, notes })
 }
