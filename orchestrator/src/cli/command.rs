@@ -707,3 +707,36 @@ pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+    use std::any::TypeId;
+
+    use crate::provenance::recorded::{guards, COMMANDS, EXPERIMENTS};
+
+    /// Every option of a command a rerun repeats that names a file, a
+    /// folder or a socket address is one the rerun guards: a new one would
+    /// otherwise reach outside the rerun's folder from a results folder.
+    #[test]
+    fn every_path_or_address_a_rerun_repeats_is_guarded() {
+        let cli = Cli::command();
+        let mut commands: Vec<&clap::Command> = COMMANDS.iter().map(|c| cli.find_subcommand(c).unwrap()).collect();
+        let experiment = cli.find_subcommand("experiment").unwrap();
+        commands.extend(EXPERIMENTS.iter().map(|k| experiment.find_subcommand(k).unwrap()));
+        let (path, addr) = (TypeId::of::<PathBuf>(), TypeId::of::<std::net::SocketAddr>());
+        let mut seen = 0;
+        for c in commands {
+            for a in c.get_arguments().filter(|a| a.get_long().is_some()) {
+                let t = a.get_value_parser().type_id();
+                if t == path || t == addr {
+                    seen += 1;
+                    let flag = format!("--{}", a.get_long().unwrap());
+                    assert!(guards(&flag), "`{} {flag}` names a path or an address a rerun passes on", c.get_name());
+                }
+            }
+        }
+        assert!(seen >= 8, "the outs, --agent-bin, --mcap, --live and --credentials: {seen}");
+    }
+}

@@ -79,8 +79,14 @@ const GUARDED: [(&str, Kind, Option<bool>); 12] = [
 
 /// The commands whose outputs a rerun repeats; `experiment scale` is
 /// refused before ([`super::rerun`]).
-const COMMANDS: [&str; 3] = ["simulate", "run", "experiment"];
-const EXPERIMENTS: [&str; 3] = ["failures", "radio", "readings"];
+pub const COMMANDS: [&str; 3] = ["simulate", "run", "experiment"];
+pub const EXPERIMENTS: [&str; 3] = ["failures", "radio", "readings"];
+
+/// Whether a rerun guards the flag `--name` (its tests check that every
+/// option taking a path or an address is guarded).
+pub fn guards(name: &str) -> bool {
+    GUARDED.iter().any(|g| g.0 == name)
+}
 
 /// One recorded flag the rerun guards, with its value if it has one.
 struct Found {
