@@ -262,10 +262,25 @@ fn hang_at(robot: usize) -> Option<u32> {
 
 fn read_setup(path: &PathBuf) -> Result<(RobotSetup, Agreement), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
-    let file: SetupFile = serde_json::from_str(&text).map_err(|e| format!("`{}`: {e}", path.display()))?;
+    let file = parse_setup(&text).map_err(|e| format!("`{}`: {e}", path.display()))?;
     // A policy travels by name: this agent must have the rule.
     registry::runnable(file.setup.policy)?;
-    Ok((file.setup, file.agreement))
+    // Presented as run: what the setup holds, not a declared copy of it.
+    let agreement = file.agreement();
+    Ok((file.setup, agreement))
+}
+
+/// A setup file's text; one of the old form, whose agreement was a
+/// declared copy beside the setup (and could differ from it), is refused
+/// by name.
+fn parse_setup(text: &str) -> Result<SetupFile, String> {
+    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
+    if v.get("agreement").is_some() {
+        return Err("it has an `agreement` section beside its `setup`, an older gridswarm's form whose \
+                    agreement could differ from what the robot runs: write it again with `gridswarm setup`"
+            .into());
+    }
+    serde_json::from_value(v).map_err(|e| e.to_string())
 }
 
 /// The names of the grid algorithms this process can run.

@@ -73,6 +73,8 @@ fn a_bad_setup_is_refused_in_one_line() {
     for (name, text, want) in [
         ("garbage", Some("{not json"), "robot-agent: error:"),
         ("unknown-field", Some(r#"{"id": 0, "obstacles": []}"#), "robot-agent: error:"),
+        // The old form: an agreement declared beside the setup, which could differ from it.
+        ("old-form", Some(r#"{"setup": {}, "agreement": {"seed": 7}}"#), "`agreement` section beside its `setup`"),
         ("missing", None, "cannot read"),
     ] {
         let setup = setup_file(name, text);

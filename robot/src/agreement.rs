@@ -1,11 +1,18 @@
 //! What every process of a distributed run agrees on before the first
 //! slot (issue 23, point 1): the run key, the scenario (by its canonical
 //! text's SHA3-256), the seed, the algorithm, the situation, the
-//! parameters after the run's overrides, and the protocol version. Every
+//! parameters after the run's overrides, the team's size, the grid frame,
+//! the number of targets a robot is told, and the protocol version. Every
 //! robot-agent presents its [`Agreement`] in its hello; the world compares
 //! it with its own and refuses an agent that differs, naming every field
 //! that does on both sides (`seed: world 7, agent 8`), so that nothing is
 //! recorded under the world's seed that was computed under another.
+//!
+//! Both sides derive it from a robot's setup ([`Agreement::of`]): the agent
+//! from the setup it will run, the world from the one it would hand a
+//! robot. Apart from the run key and the scenario's id, which no setup
+//! holds, nothing in it is declared: an agent cannot present one thing
+//! and run another (issue 36, point 9).
 //!
 //! The agreement knows no transport: it travels in the hello, whatever
 //! carries the hello, and so holds whatever secures the link later.
@@ -13,8 +20,9 @@
 use serde::{Deserialize, Serialize};
 use sha3::{Digest, Sha3_256};
 
-use crate::params::{Params, Situation};
-use crate::policy::Policy;
+use crate::lattice::LatticeKind;
+use crate::params::Params;
+use crate::setup::RobotSetup;
 
 /// The version of the world-agent messages ([`crate::wire`]). Version 1
 /// was the hello of a robot number and a process id alone; version 2
@@ -23,7 +31,10 @@ use crate::policy::Policy;
 /// receiver reads it); version 4 the time a map's sender sensed; version 5
 /// the `Wait` frame and the choice order in the parameters; version 6
 /// targets as positions ([`crate::spot`]), not the world's ids; version 7
-/// the survivor step's switch in the parameters. A hello starts with its
+/// the survivor step's switch, how step 8 reaches every robot and rule
+/// (2)'s choice among visited vertices in the parameters, and the team,
+/// the grid frame and the targets told in the agreement, derived from the
+/// agent's setup. A hello starts with its
 /// version, so that a later world can read it whatever follows.
 pub const PROTOCOL_VERSION: u32 = 7;
 
@@ -75,27 +86,35 @@ pub struct Agreement {
     pub situation: u8,
     /// The parameters after the run's overrides (`--retries`).
     pub params: Params,
+    /// Robots in the team (the roster every robot holds).
+    pub team: usize,
+    /// The grid frame: its lattice, and the corners of the box it covers.
+    pub lattice: LatticeKind,
+    pub lo: [f64; 2],
+    pub hi: [f64; 2],
+    /// `|T|` as a robot is told it (0 in situation 2).
+    pub targets_total: usize,
 }
 
 impl Agreement {
-    /// This build's agreement on a run of `scenario` (its id taken before
-    /// the run's overrides) with `params` (after them).
-    pub fn new(
-        key: &str,
-        scenario: ScenarioId,
-        seed: u64,
-        policy: Policy,
-        situation: Situation,
-        params: Params,
-    ) -> Self {
+    /// The agreement of a run under `key` on `scenario` (its id taken
+    /// before the run's overrides) whose robots run `setup` (its robot
+    /// number aside: that is the hello's own): everything a robot runs
+    /// with, read off the setup, never declared beside it.
+    pub fn of(key: &str, scenario: ScenarioId, setup: &RobotSetup) -> Self {
         Agreement {
             protocol: PROTOCOL_VERSION,
             key: key.to_string(),
             scenario,
-            seed,
-            algorithm: policy.name().to_string(),
-            situation: situation.number(),
-            params,
+            seed: setup.seed,
+            algorithm: setup.policy.name().to_string(),
+            situation: setup.situation.number(),
+            params: setup.params,
+            team: setup.team,
+            lattice: setup.lattice,
+            lo: setup.lo,
+            hi: setup.hi,
+            targets_total: setup.targets_total,
         }
     }
 
@@ -123,6 +142,13 @@ impl Agreement {
         differ("seed", self.seed.to_string(), agent.seed.to_string());
         differ("algorithm", shown(&self.algorithm).into(), shown(&agent.algorithm).into());
         differ("situation", self.situation.to_string(), agent.situation.to_string());
+        differ("team", self.team.to_string(), agent.team.to_string());
+        differ("lattice", self.lattice.name().into(), agent.lattice.name().into());
+        let frame = |a: &Agreement| format!("{:?} to {:?}", a.lo, a.hi);
+        if (self.lo, self.hi) != (agent.lo, agent.hi) {
+            differ("grid frame", frame(self), frame(agent));
+        }
+        differ("targets told", self.targets_total.to_string(), agent.targets_total.to_string());
         for (name, world, agent) in param_differences(&self.params, &agent.params) {
             differ(&format!("params.{name}"), world, agent);
         }
@@ -171,6 +197,8 @@ pub fn robot_range(n: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::Situation;
+    use crate::policy::Policy;
 
     /// A scenario by name and text alone (the world's crate tests its own).
     struct Text(&'static str, &'static str);
@@ -184,9 +212,23 @@ mod tests {
         }
     }
 
+    fn setup(seed: u64) -> RobotSetup {
+        RobotSetup {
+            id: 3,
+            lattice: LatticeKind::Triangular,
+            lo: [0.0, 0.0],
+            hi: [40.0, 30.0],
+            params: Params::default(),
+            policy: Policy::Repulsive,
+            situation: Situation::Two,
+            targets_total: 0,
+            seed,
+            team: 9,
+        }
+    }
+
     fn paper(seed: u64) -> Agreement {
-        let sc = Text("paper", "[area]");
-        Agreement::new("lab2", ScenarioId::of(&sc), seed, Policy::Repulsive, Situation::Two, Params::default())
+        Agreement::of("lab2", ScenarioId::of(&Text("paper", "[area]")), &setup(seed))
     }
 
     #[test]
@@ -221,6 +263,33 @@ mod tests {
         agent.protocol = PROTOCOL_VERSION + 1;
         let want = format!("protocol version: world {PROTOCOL_VERSION}, agent {}", PROTOCOL_VERSION + 1);
         assert_eq!(world.differences(&agent), [want]);
+    }
+
+    /// An edited setup presents what it will run: each edit of issue 36's
+    /// reproducer (and of the frame) is a difference the world names.
+    #[test]
+    fn the_agreement_is_what_the_setup_runs() {
+        let world = paper(7);
+        let mut other = Agreement::of("lab2", world.scenario.clone(), &RobotSetup { id: 0, ..setup(7) });
+        assert!(world.differences(&other).is_empty(), "the robot number is the hello's, not the agreement's");
+        let edits: [(&str, fn(&mut RobotSetup)); 8] = [
+            ("seed: world 7, agent 8", |s| s.seed = 8),
+            ("algorithm: world repulsive, agent sequential", |s| s.policy = Policy::Sequential),
+            ("params.t_wait: world ", |s| s.params.t_wait += 1.0),
+            ("team: world 9, agent 5", |s| s.team = 5),
+            ("params.r_c: world ", |s| s.params.r_c = 30.0),
+            ("situation: world 2, agent 1", |s| s.situation = Situation::One),
+            ("lattice: world triangular, agent square", |s| s.lattice = LatticeKind::Square),
+            ("grid frame: world [0.0, 0.0] to [40.0, 30.0], agent [0.0, 0.0] to [41.0, 30.0]", |s| s.hi[0] = 41.0),
+        ];
+        for (want, edit) in edits {
+            let mut s = setup(7);
+            edit(&mut s);
+            other = Agreement::of("lab2", world.scenario.clone(), &s);
+            let d = world.differences(&other);
+            assert_eq!(d.len(), 1, "{want}: {d:?}");
+            assert!(d[0].starts_with(want), "{want} in {d:?}");
+        }
     }
 
     #[test]

@@ -8,7 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::agreement::Agreement;
+use crate::agreement::{Agreement, ScenarioId};
 use crate::geometry::Point;
 use crate::grid::Grid;
 use crate::lattice::{Lattice, LatticeKind};
@@ -38,12 +38,27 @@ pub struct RobotSetup {
 }
 
 /// What the orchestrator hands a robot-agent it starts (`--setup`): the
-/// robot's setup, and the run's agreement the agent presents in its hello.
+/// robot's setup, and the two things of the run's agreement no setup
+/// holds, the run key and the scenario's id. The agreement the agent
+/// presents is derived from the setup ([`SetupFile::agreement`]), never
+/// declared beside it: an edited setup is presented as edited, and the
+/// world refuses it unless it is the world's own (issue 36, point 9).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SetupFile {
+    /// The run key (zenoh: the root of its key expressions; iceoryx2: the
+    /// run's prefix): the run this setup was written for.
+    pub key: String,
+    /// The scenario the setup was derived from.
+    pub scenario: ScenarioId,
     pub setup: RobotSetup,
-    pub agreement: Agreement,
+}
+
+impl SetupFile {
+    /// The agreement this robot presents: the one its setup runs.
+    pub fn agreement(&self) -> Agreement {
+        Agreement::of(&self.key, self.scenario.clone(), &self.setup)
+    }
 }
 
 impl RobotSetup {

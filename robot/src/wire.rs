@@ -318,6 +318,10 @@ fn check_hello(h: &Hello) -> Result<(), WireError> {
         p.t_exchange,
         p.t_hop,
         p.t_wait,
+        a.lo[0],
+        a.lo[1],
+        a.hi[0],
+        a.hi[1],
     ];
     if reals.iter().all(|x| x.is_finite()) {
         Ok(())
@@ -462,7 +466,19 @@ mod tests {
         let id = crate::agreement::ScenarioId { name: "small".into(), sha3_256: "ab".repeat(32) };
         let policy = crate::policy::Policy::Repulsive;
         let params = crate::params::Params::default();
-        let agreement = Agreement::new("k", id, 7, policy, crate::params::Situation::Two, params);
+        let setup = crate::setup::RobotSetup {
+            id: robot as crate::map::RobotId,
+            lattice: crate::lattice::LatticeKind::Triangular,
+            lo: [0.0, 0.0],
+            hi: [20.0, 16.0],
+            params,
+            policy,
+            situation: crate::params::Situation::Two,
+            targets_total: 0,
+            seed: 7,
+            team: 13,
+        };
+        let agreement = Agreement::of("k", id, &setup);
         ToWorld::Hello(Box::new(Hello { agreement, robot, pid: 77, host: "h".into(), nonce: 5 }))
     }
 

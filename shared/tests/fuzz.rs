@@ -390,7 +390,10 @@ fn hello(robot: u32, pid: u32, nonce: u64, seed: u64, text: &str, r_c: f64) -> T
     let mut params = sc.params;
     params.r_c = r_c;
     let id = ScenarioId { name: text.into(), sha3_256: ScenarioId::of(&sc).sha3_256 };
-    let agreement = Agreement::new(text, id, seed, Policy::Repulsive, Situation::One, params);
+    let cfg = gridswarm::outcome::RunConfig::new(Policy::Repulsive, seed, Situation::One);
+    let mut setup = cfg.robot_setup(&sc.world(), 0, 3);
+    setup.params = params;
+    let agreement = Agreement::of(text, id, &setup);
     ToWorld::Hello(Box::new(Hello { agreement, robot, pid, host: text.into(), nonce }))
 }
 

@@ -59,7 +59,11 @@ impl World {
 
     /// [`World::agent`] with more variables in its environment.
     fn agent_with(&self, run: &[&str], robot: usize, env: &[(&str, &str)]) -> Child {
-        let setup = setup_file(&self.setups, &self.key, run, robot);
+        self.agent_of(&setup_file(&self.setups, &self.key, run, robot), env)
+    }
+
+    /// An agent started by hand with the setup file `setup`.
+    fn agent_of(&self, setup: &Path, env: &[(&str, &str)]) -> Child {
         Command::new(bin_dir().join("robot-agent"))
             .args(["--transport", "zenoh", "--prefix", &self.key, "--connect", &self.endpoint, "--insecure"])
             .arg("--setup")
@@ -147,12 +151,44 @@ fn agents_with_another_seed_are_refused_and_nothing_is_recorded() {
         "seed78",
         &["--scenario", "small", "--robots", "2", "--seed", "7", "--out", out_dir.to_str().unwrap()],
     );
-    let agents: Vec<Child> = (0..2).map(|k| world.agent(&["--scenario", "small", "--seed", "8"], k)).collect();
+    let agents: Vec<Child> =
+        (0..2).map(|k| world.agent(&["--scenario", "small", "--seed", "8", "--robots", "2"], k)).collect();
     for a in agents {
         // The first heard is refused for its seed, the other told the run is off, why included.
         refused(a, &["seed: world 7, agent 8"]);
     }
     run_refused(world, &out_dir, &["does not agree with the world: seed: world 7, agent 8"]);
+}
+
+/// Issue 36's reproducer: a setup file edited by hand in each of seed,
+/// algorithm, t_wait, team and r_c. The agent presents what its setup
+/// runs, not a declared copy beside it, so the world refuses it naming the
+/// edit, and nothing is recorded as a run of the world's settings.
+#[test]
+fn an_edited_setup_is_refused_for_what_it_would_run() {
+    let _s = serial();
+    let dir = scratch("agreement-edited");
+    let edits = [
+        ("seed", "/setup/seed", serde_json::json!(8), "seed: world 7, agent 8"),
+        ("algorithm", "/setup/policy", serde_json::json!("sequential"), "algorithm: world repulsive, agent sequential"),
+        ("t_wait", "/setup/params/t_wait", serde_json::json!(9.5), "params.t_wait: world "),
+        ("team", "/setup/team", serde_json::json!(3), "team: world 2, agent 3"),
+        ("r_c", "/setup/params/r_c", serde_json::json!(30.0), "params.r_c: world "),
+    ];
+    let run = ["--scenario", "small", "--seed", "7", "--robots", "2"];
+    for (what, field, value, words) in edits {
+        let out_dir = dir.join(what);
+        let key = format!("edit-{}", what.replace('_', ""));
+        let world = World::start(&key, &[&run[..], &["--out", out_dir.to_str().unwrap()]].concat());
+        let file = setup_file(&world.setups, &key, &run, 0);
+        let mut v: serde_json::Value = serde_json::from_slice(&fs::read(&file).unwrap()).unwrap();
+        let old = v.pointer(field).unwrap_or_else(|| panic!("{field} in {v}")).clone();
+        assert_ne!(old, value, "{what}: an edit");
+        *v.pointer_mut(field).unwrap() = value;
+        fs::write(&file, v.to_string()).unwrap();
+        refused(world.agent_of(&file, &[]), &[words]);
+        run_refused(world, &out_dir, &[words]);
+    }
 }
 
 #[test]
@@ -161,7 +197,8 @@ fn agents_of_another_scenario_are_refused_at_their_hello_not_100_rounds_in() {
     let dir = scratch("agreement-scenario");
     let out_dir = dir.join("result");
     let world = World::start("paperopen", &["--robots", "2", "--seed", "7", "--out", out_dir.to_str().unwrap()]);
-    let agents: Vec<Child> = (0..2).map(|k| world.agent(&["--scenario", "open", "--seed", "7"], k)).collect();
+    let agents: Vec<Child> =
+        (0..2).map(|k| world.agent(&["--scenario", "open", "--seed", "7", "--robots", "2"], k)).collect();
     for a in agents {
         refused(a, &["scenario: world `paper` (sha3 ", "agent `open` (sha3 "]);
     }
@@ -174,7 +211,7 @@ fn a_robot_number_outside_the_team_is_refused_in_words_a_bash_user_reads() {
     let dir = scratch("agreement-outside");
     let out_dir = dir.join("result");
     let world = World::start("thirteen", &["--robots", "13", "--seed", "7", "--out", out_dir.to_str().unwrap()]);
-    let agent = world.agent(&["--scenario", "paper", "--seed", "7"], 13);
+    let agent = world.agent(&["--scenario", "paper", "--seed", "7", "--robots", "13"], 13);
     refused(agent, &["claims robot 13, which is not in this run: its 13 robot(s) are numbered 0 to 12"]);
     let err = run_refused(world, &out_dir, &["numbered 0 to 12"]);
     // The hint to start the agents says the range in words too.
@@ -192,7 +229,7 @@ fn a_second_claim_to_a_robot_number_is_refused() {
         "twice1",
         &["--scenario", "small", "--robots", "2", "--seed", "7", "--out", out_dir.to_str().unwrap()],
     );
-    let impostor = world.agent(&["--scenario", "small", "--seed", "9"], 1);
+    let impostor = world.agent(&["--scenario", "small", "--seed", "9", "--robots", "2"], 1);
     refused(impostor, &["robot-agent 1 (pid ", "seed: world 7, agent 9"]);
     run_refused(world, &out_dir, &["seed: world 7, agent 9"]);
 
@@ -205,7 +242,7 @@ fn a_second_claim_to_a_robot_number_is_refused() {
         "twice2",
         &["--scenario", "small", "--robots", "2", "--seed", "7", "--out", out_dir.to_str().unwrap()],
     );
-    let args = ["--scenario", "small", "--seed", "7"];
+    let args = ["--scenario", "small", "--seed", "7", "--robots", "2"];
     let impostor = world.agent(&args, 1);
     std::thread::sleep(Duration::from_millis(500));
     let real = world.agent(&args, 1);
@@ -268,10 +305,11 @@ fn a_claim_once_the_run_is_under_way_is_refused_and_changes_nothing() {
     let run = ["--scenario", "small", "--seed", "7"];
     let world = World::start("late1", &[&run[..], &["--robots", "2", "--out", out_dir.to_str().unwrap()]].concat());
     // Robot 0 stops itself on the readings of slot 2: the world waits on it.
-    let hung = world.agent_with(&run, 0, &[("GRIDSWARM_AGENT_HANG", "0@2")]);
-    let real = world.agent(&run, 1);
+    let team = [&run[..], &["--robots", "2"]].concat();
+    let hung = world.agent_with(&team, 0, &[("GRIDSWARM_AGENT_HANG", "0@2")]);
+    let real = world.agent(&team, 1);
     assert!(wait_until(GUARD, || stopped(hung.id())), "robot 0 stops in slot 2");
-    let impostor = world.agent(&run, 1);
+    let impostor = world.agent(&team, 1);
     refused(impostor, &[&format!("already taken by pid {} on ", real.id()), "and the run is under way"]);
     // SAFETY: kill(2) on our own child.
     unsafe { libc::kill(hung.id() as i32, libc::SIGCONT) };

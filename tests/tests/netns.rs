@@ -146,6 +146,9 @@ impl Hosts {
         env: &[(&str, String)],
     ) -> Vec<usize> {
         let bin = bin_dir().join("robot-agent");
+        // The team's size is part of the agreement: every setup names it.
+        let n = robots.to_string();
+        let run = [run, &["--robots", &n]].concat();
         (0..robots)
             .map(|r| {
                 let k = Self::host_of(r);
@@ -153,7 +156,7 @@ impl Hosts {
                     ["--transport", "zenoh", "--prefix", key, "--connect"].iter().map(|s| s.to_string()).collect();
                 args.push(format!("tls/{}:{PORT}", self.world_addr(k)));
                 args.extend(["--credentials".to_string(), keys.display().to_string()]);
-                let setup = setup_file(keys.parent().unwrap(), key, run, r);
+                let setup = setup_file(keys.parent().unwrap(), key, &run, r);
                 args.extend(["--setup".to_string(), setup.display().to_string()]);
                 let ns = self.agents[k - 1].clone();
                 self.spawn(&ns, &bin, &args, env, Stdio::null())

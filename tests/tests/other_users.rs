@@ -378,7 +378,7 @@ fn another_user_cannot_read_join_or_disturb_a_zenoh_run() {
         TEST,
         &intruder::Orders { endpoint: tcp, ca: None, cert: None, ..orders },
     );
-    let agents = intruder::start_agents(&key, &tls, &security, (&run[..4], &dir), 4);
+    let agents = intruder::start_agents(&key, &tls, &security, (&run[..], &dir), 4);
     let v = intruder::finish(world.take(), agents);
     for (who, r) in [
         ("another authority's robot 0", impostor.stop()),
@@ -415,7 +415,7 @@ fn with_insecure_another_user_reads_the_whole_run() {
     let mut world = Reaped(Some(intruder::start_world(&key, &endpoint, &security, &run, &out)));
     let orders = intruder::Orders { endpoint: endpoint.clone(), key: key.clone(), ..Default::default() };
     let listener = intruder::Intruder::start(&other_user(), &exe, TEST, &orders);
-    let agents = intruder::start_agents(&key, &endpoint, &security, (&run[..4], &dir), 4);
+    let agents = intruder::start_agents(&key, &endpoint, &security, (&run[..], &dir), 4);
     let v = intruder::finish(world.take(), agents);
     let r = listener.stop();
     assert!(r.opened && r.received > 100, "plain TCP is open to anyone: {r:?}");

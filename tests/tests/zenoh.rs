@@ -147,7 +147,7 @@ fn a_robot_s_credentials_speak_and_hear_for_that_robot_only() {
         ..Default::default()
     };
     let robot1 = intruder::Intruder::start(&[], &std::env::current_exe().unwrap(), TEST, &orders);
-    let agents = intruder::start_agents(&key, &endpoint, &security, (&run[..4], &dir), 4);
+    let agents = intruder::start_agents(&key, &endpoint, &security, (&run[..], &dir), 4);
     let v = intruder::finish(world, agents);
     let r = robot1.stop();
     assert!(r.opened && r.received > 0, "robot 1's credentials join and hear robot 1's inbox: {r:?}");
@@ -172,12 +172,12 @@ fn a_robot_refuses_a_world_whose_certificate_does_not_name_the_host() {
     let listen_both = [&security[..], &["--listen".to_string(), unnamed.clone()]].concat();
     let world = intruder::start_world(&key, &named, &listen_both, &run, &dir.join("run"));
     let wrong = [&security[..], &["--connect-timeout-ms".to_string(), "3000".into()]].concat();
-    let mut refused = intruder::start_agents(&key, &unnamed, &wrong, (&run[..4], &dir), 1);
+    let mut refused = intruder::start_agents(&key, &unnamed, &wrong, (&run[..], &dir), 1);
     let out = refused.pop().unwrap().wait_with_output().unwrap();
     let err = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.contains("must name the host in --connect"), "{err}");
     // The same credentials through a name the certificate holds: the run goes on.
-    let v = intruder::finish(world, intruder::start_agents(&key, &named, &security, (&run[..4], &dir), 2));
+    let v = intruder::finish(world, intruder::start_agents(&key, &named, &security, (&run[..], &dir), 2));
     assert_eq!(v["complete"], true, "{v}");
 }

@@ -197,7 +197,8 @@ fn serve(args: &Args, link: &dyn WorldTransport, (run, world, starts, id): Loade
         progress: args.progress,
     };
     let c = &run.config;
-    let agreement = Agreement::new(key(args), id, c.seed, c.policy, c.situation, world.params);
+    // Derived as each agent derives its own, from the setup it would hand a robot.
+    let agreement = Agreement::of(key(args), id, &c.robot_setup(&world, 0, robots));
     let mut remote = Remote::new(link, agreement.clone(), limits, patience, c.faults.clone());
     remote.hello(Duration::from_millis(args.hello_timeout_ms.unwrap_or(30_000 + 100 * robots as u64)))?;
     let startup_ms = t0.elapsed().as_secs_f64() * 1e3;

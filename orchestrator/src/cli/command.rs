@@ -144,13 +144,24 @@ enum Command {
     /// Repeat the command that wrote DIR from its provenance (the recorded command line and
     /// scenario text, not the scenario file) into a new folder, and check that the outputs
     /// that must repeat (results.csv, runs.csv, trajectories.jsonl, ...) have the same bytes.
-    /// Exits 1 naming every file that differs.
+    /// Exits 1 naming every file that differs. A folder is data: the rerun executes only
+    /// gridswarm itself, writes only into its own folder and serves nothing, unless its own
+    /// --agent-bin and --live ask.
     Rerun {
         /// A folder written by simulate --out, run --out or an experiment.
         dir: PathBuf,
         /// Where to write the rerun [default: DIR/rerun].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Run the agent program the recorded command names; it must be this same PATH
+        /// (a rerun never executes a program named only by the folder).
+        #[arg(long, value_name = "PATH")]
+        agent_bin: Option<PathBuf>,
+        /// Serve the rerun live at ADDR [default: 127.0.0.1:8765], for a recorded simulate or
+        /// run (a recorded --live is not served without it).
+        #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = crate::live::DEFAULT_ADDR,
+              value_parser = crate::live::parse_addr)]
+        live: Option<std::net::SocketAddr>,
     },
     /// Write (or rewrite) DIR/replay.html, the page that plays a run back,
     /// from the files a run wrote there; prints the page's path.
@@ -610,8 +621,9 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             let (_, text) = experiment::run(&opts)?;
             emit(&text);
         }
-        Command::Rerun { dir, out } => {
-            let outcome = crate::provenance::rerun::rerun(&dir, out.as_deref())?;
+        Command::Rerun { dir, out, agent_bin, live } => {
+            let allowed = crate::provenance::recorded::Allowed { agent_bin, live };
+            let outcome = crate::provenance::rerun::rerun(&dir, out.as_deref(), &allowed)?;
             emit(&outcome.text());
             let differing = outcome.differing();
             if !differing.is_empty() {
@@ -748,5 +760,38 @@ pub fn main_with(rules: &[(&str, Factory)]) -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::from(e.exit_code())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+    use std::any::TypeId;
+
+    use crate::provenance::recorded::{guards, COMMANDS, EXPERIMENTS};
+
+    /// Every option of a command a rerun repeats that names a file, a
+    /// folder or a socket address is one the rerun guards: a new one would
+    /// otherwise reach outside the rerun's folder from a results folder.
+    #[test]
+    fn every_path_or_address_a_rerun_repeats_is_guarded() {
+        let cli = Cli::command();
+        let mut commands: Vec<&clap::Command> = COMMANDS.iter().map(|c| cli.find_subcommand(c).unwrap()).collect();
+        let experiment = cli.find_subcommand("experiment").unwrap();
+        commands.extend(EXPERIMENTS.iter().map(|k| experiment.find_subcommand(k).unwrap()));
+        let (path, addr) = (TypeId::of::<PathBuf>(), TypeId::of::<std::net::SocketAddr>());
+        let mut seen = 0;
+        for c in commands {
+            for a in c.get_arguments().filter(|a| a.get_long().is_some()) {
+                let t = a.get_value_parser().type_id();
+                if t == path || t == addr {
+                    seen += 1;
+                    let flag = format!("--{}", a.get_long().unwrap());
+                    assert!(guards(&flag), "`{} {flag}` names a path or an address a rerun passes on", c.get_name());
+                }
+            }
+        }
+        assert!(seen >= 8, "the outs, --agent-bin, --mcap, --live and --credentials: {seen}");
     }
 }

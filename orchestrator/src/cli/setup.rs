@@ -15,7 +15,7 @@ use gridswarm::policy::Policy;
 use gridswarm::setup::SetupFile;
 
 use crate::error::{Error, Result};
-use crate::run::{self, Overrides};
+use crate::run::Overrides;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct SetupArgs {
@@ -83,10 +83,9 @@ pub fn setup_file(a: &SetupArgs) -> Result<SetupFile> {
     let (scenario, id) = a.overrides().load(&a.scenario)?;
     let world = scenario.world();
     let cfg = RunConfig::new(a.algorithm, a.seed, scenario.situation);
-    let agreement = run::agreement(&a.key, &id, &cfg, &world);
     // A number outside the team is the world's to refuse, in its words.
     let team = a.robots.map_or(scenario.robots, |n| n as usize);
-    Ok(SetupFile { setup: cfg.robot_setup(&world, a.robot as usize, team), agreement })
+    Ok(SetupFile { key: a.key.clone(), scenario: id, setup: cfg.robot_setup(&world, a.robot as usize, team) })
 }
 
 /// Writes the file (whole or not at all); returns what to tell the user.
@@ -94,7 +93,7 @@ pub fn write(a: &SetupArgs) -> Result<String> {
     let file = setup_file(a)?;
     let text = serde_json::to_string(&file).map_err(|e| Error::Run(format!("cannot encode the setup: {e}")))?;
     replace(&a.out, &text)?;
-    let sc = &file.agreement.scenario;
+    let sc = &file.scenario;
     Ok(format!(
         "robot {} of run `{}` ({} sha3 {}, seed {}, {}) in {}; on its host:\n  \
          robot-agent --transport zenoh --prefix {} --setup {} --connect ... (--credentials DIR or --insecure)\n",
@@ -124,7 +123,7 @@ fn replace(path: &Path, text: &str) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::run::RunOptions;
+    use crate::run::{self, RunOptions};
 
     fn args(scenario: &str, algorithm: Policy, robot: u32) -> SetupArgs {
         SetupArgs {
@@ -164,7 +163,7 @@ mod tests {
                 plan.cfg.robot_setup(&plan.world, robot as usize, 13),
                 "{scenario} {policy} {robot}"
             );
-            assert_eq!(file.agreement, plan.agreement("key"), "{scenario} {policy} {robot}");
+            assert_eq!(file.agreement(), plan.agreement("key"), "{scenario} {policy} {robot}");
         }
     }
 

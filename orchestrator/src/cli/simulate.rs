@@ -85,7 +85,7 @@ pub fn simulate(opts: &SimulateOptions) -> Result<(String, u8)> {
         false => (Runner::new(&world, lfp).run(&starts, &cfg), Vec::new()),
     };
     // What a distributed run's processes would have agreed on; no key.
-    let mut agreement = json!(Agreement::new("", scenario_id, cfg.seed, cfg.policy, cfg.situation, world.params));
+    let mut agreement = json!(Agreement::of("", scenario_id, &cfg.robot_setup(&world, 0, robots)));
     agreement["key"] = serde_json::Value::Null;
     let extra = json!({
         "engine": "in-process",

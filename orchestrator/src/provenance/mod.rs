@@ -11,6 +11,7 @@
 //! same from one run of a command to the next. This module must never
 //! change what a command computes: it only describes it.
 
+pub mod recorded;
 pub mod rerun;
 
 use std::path::Path;

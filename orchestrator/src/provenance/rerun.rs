@@ -7,9 +7,13 @@
 //! any other is written from its recorded text into a temporary file.
 //!
 //! It runs this same program as a child process, so the rerun goes through
-//! exactly the parsing and defaults the original did.
+//! exactly the parsing and defaults the original did; never a program the
+//! folder names, and nothing that writes outside the new folder or listens
+//! unless rerun's own command line asks ([`super::recorded`]).
 
 use std::fs;
+use std::io::Write;
+use std::os::unix::fs::DirBuilderExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -17,6 +21,7 @@ use gridswarm::agreement::ScenarioId;
 use gridswarm::scenario::Scenario;
 use serde_json::Value;
 
+use super::recorded::{self, Allowed};
 use super::{FILE, KEY};
 use crate::error::{Error, Result};
 use crate::rundir::read_text;
@@ -50,6 +55,8 @@ pub struct Outcome {
     /// The recorded build, when it is not this one (then a difference may
     /// come from the code, not from the run).
     pub other_build: Option<String>,
+    /// What of the recorded command was not repeated, and why.
+    pub notes: Vec<String>,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -70,6 +77,9 @@ impl Outcome {
             Some(b) => format!("note: recorded by {b}, rerun by {} commit {}\n", super::VERSION, super::COMMIT),
             None => String::new(),
         };
+        for n in &self.notes {
+            s += &format!("note: {n}\n");
+        }
         for (f, v) in &self.compared {
             s += &match v {
                 Verdict::Same => format!("same     {f}\n"),
@@ -110,15 +120,18 @@ pub fn read(dir: &Path) -> Result<Value> {
     )))
 }
 
-/// Reruns the folder `dir` into `out` (default `dir/rerun`) and compares.
-pub fn rerun(dir: &Path, out: Option<&Path>) -> Result<Outcome> {
+/// Reruns the folder `dir` into `out` (default `dir/rerun`) and compares;
+/// of the recorded command, only what `allowed` permits reaches outside
+/// `out` ([`recorded::clean`]).
+pub fn rerun(dir: &Path, out: Option<&Path>, allowed: &Allowed) -> Result<Outcome> {
     let p = read(dir)?;
-    let args = recorded_args(&p)?;
+    let cleaned = recorded::clean(&recorded_args(&p)?, allowed)?;
     let out = out.map(Path::to_path_buf).unwrap_or_else(|| dir.join("rerun"));
     let temp = std::env::temp_dir().join(format!("gridswarm-rerun-{}", std::process::id()));
     let result = (|| {
         let scenario = scenario_arg(&p, &temp)?;
-        let args = with_value(with_value(args, "--out", &out.to_string_lossy()), "--scenario", &scenario);
+        let mut args = cleaned.args;
+        args.extend(["--out".to_string(), out.to_string_lossy().into_owned(), "--scenario".to_string(), scenario]);
         run_child(&args)
     })();
     let _ = fs::remove_dir_all(&temp);
@@ -135,7 +148,7 @@ pub fn rerun(dir: &Path, out: Option<&Path>) -> Result<Outcome> {
     let recorded = (p["version"].as_str(), p["commit"].as_str());
     let other_build = (recorded != (Some(super::VERSION), Some(super::COMMIT)))
         .then(|| format!("{} commit {}", recorded.0.unwrap_or("?"), recorded.1.unwrap_or("?")));
-    Ok(Outcome { out, compared, other_build })
+    Ok(Outcome { out, compared, other_build, notes: cleaned.notes })
 }
 
 /// The recorded arguments after the program's name; refused when the
@@ -157,7 +170,9 @@ fn recorded_args(p: &Value) -> Result<Vec<String>> {
 }
 
 /// The `--scenario` of the rerun: a random map's text, or the recorded
-/// text written to a file in `temp`, after checking it hashes as recorded.
+/// text written to a file in `temp`, a folder made for it (only this user
+/// may enter it; one that exists already is refused, never reused), after
+/// checking it hashes as recorded.
 fn scenario_arg(p: &Value, temp: &Path) -> Result<String> {
     let s = &p["scenario"];
     let (arg, content, hash) = (s["arg"].as_str(), s["content"].as_str(), s["sha3_256"].as_str());
@@ -171,28 +186,11 @@ fn scenario_arg(p: &Value, temp: &Path) -> Result<String> {
     if arg.starts_with("random:") {
         return Ok(arg.to_string());
     }
-    fs::create_dir_all(temp).map_err(Error::write(temp))?;
+    fs::DirBuilder::new().mode(0o700).create(temp).map_err(Error::write(temp))?;
     let file = temp.join("scenario.toml");
-    fs::write(&file, content).map_err(Error::write(&file))?;
+    let mut f = fs::OpenOptions::new().write(true).create_new(true).open(&file).map_err(Error::write(&file))?;
+    f.write_all(content.as_bytes()).map_err(Error::write(&file))?;
     Ok(file.to_string_lossy().into_owned())
-}
-
-/// `args` with `flag`'s value set to `value` (`--flag V` or `--flag=V`),
-/// or the pair appended.
-fn with_value(mut args: Vec<String>, flag: &str, value: &str) -> Vec<String> {
-    let eq = format!("{flag}=");
-    if let Some(i) = args.iter().position(|a| a == flag) {
-        if i + 1 < args.len() {
-            args[i + 1] = value.to_string();
-            return args;
-        }
-    }
-    if let Some(a) = args.iter_mut().find(|a| a.starts_with(&eq)) {
-        *a = format!("{eq}{value}");
-        return args;
-    }
-    args.extend([flag.to_string(), value.to_string()]);
-    args
 }
 
 /// Runs this program with `args`; its stdout discarded, its stderr shown.
@@ -230,17 +228,6 @@ fn compare(old: &Path, new: &Path) -> Result<Verdict> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn v(a: &[&str]) -> Vec<String> {
-        a.iter().map(|s| s.to_string()).collect()
-    }
-
-    #[test]
-    fn values_replaced_in_either_form_or_appended() {
-        assert_eq!(with_value(v(&["simulate", "--out", "a"]), "--out", "b"), v(&["simulate", "--out", "b"]));
-        assert_eq!(with_value(v(&["simulate", "--out=a"]), "--out", "b"), v(&["simulate", "--out=b"]));
-        assert_eq!(with_value(v(&["experiment"]), "--scenario", "f"), v(&["experiment", "--scenario", "f"]));
-    }
 
     #[test]
     fn scale_and_rerun_itself_are_refused() {

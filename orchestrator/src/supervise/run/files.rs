@@ -8,7 +8,7 @@ use std::fs;
 use std::os::unix::fs::DirBuilderExt;
 use std::path::{Path, PathBuf};
 
-use gridswarm::agreement::Agreement;
+use gridswarm::agreement::ScenarioId;
 use gridswarm::ipc::{self, RunFile};
 use gridswarm::outcome::RunConfig;
 use gridswarm::setup::SetupFile;
@@ -50,12 +50,13 @@ impl RunFiles {
         self.dir.join(format!("robot-{robot}.json"))
     }
 
-    /// Writes the world's run file and every robot's setup, with the
-    /// agreement its agent presents.
-    pub fn write(&self, run: &RunFile, world: &World, cfg: &RunConfig, agreement: &Agreement) -> Result<()> {
+    /// Writes the world's run file and every robot's setup, with the run
+    /// key and scenario id its agent presents beside it.
+    pub fn write(&self, run: &RunFile, world: &World, cfg: &RunConfig, (key, id): (&str, &ScenarioId)) -> Result<()> {
         write_json(&self.run_file(), run)?;
         for k in 0..run.robots {
-            let file = SetupFile { setup: cfg.robot_setup(world, k, run.robots), agreement: agreement.clone() };
+            let setup = cfg.robot_setup(world, k, run.robots);
+            let file = SetupFile { key: key.to_string(), scenario: id.clone(), setup };
             write_json(&self.setup(k), &file)?;
         }
         Ok(())

@@ -227,7 +227,7 @@ pub fn plan(opts: &RunOptions) -> Result<Plan> {
 impl Plan {
     /// The agreement of this run under `key`, as its world holds it.
     pub fn agreement(&self, key: &str) -> Agreement {
-        agreement(key, &self.scenario_id, &self.cfg, &self.world)
+        agreement(key, &self.scenario_id, &self.cfg, &self.world, self.robots)
     }
 }
 
@@ -265,10 +265,11 @@ impl Overrides {
     }
 }
 
-/// The agreement of run `key` of `world` (its scenario `id`) under `cfg`:
-/// what the world holds and every robot's setup file presents.
-pub fn agreement(key: &str, id: &ScenarioId, cfg: &RunConfig, world: &World) -> Agreement {
-    Agreement::new(key, id.clone(), cfg.seed, cfg.policy, cfg.situation, world.params)
+/// The agreement of run `key` of `world` (its scenario `id`) under `cfg`
+/// with `team` robots: what the world holds and every robot's setup file
+/// presents, derived from a robot's setup as the agent derives it.
+pub fn agreement(key: &str, id: &ScenarioId, cfg: &RunConfig, world: &World, team: usize) -> Agreement {
+    Agreement::of(key, id.clone(), &cfg.robot_setup(world, 0, team))
 }
 
 /// What one run produced, for [`run`]'s text and [`execute`]'s summary.
@@ -323,7 +324,7 @@ fn perform(opts: &RunOptions, quiet: bool) -> Result<Done> {
         starts: opts.starts,
         config: plan.cfg.clone(),
     };
-    files.write(&run_file, &plan.world, &plan.cfg, &plan.agreement(&prefix))?;
+    files.write(&run_file, &plan.world, &plan.cfg, (&prefix, &plan.scenario_id))?;
 
     let (tx, rx) = mpsc::channel();
     launch::forward_signals(tx.clone()).map_err(Error::Run)?;
