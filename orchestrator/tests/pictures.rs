@@ -10,7 +10,7 @@ use std::path::Path;
 mod common;
 use common::{assert_ok, gridswarm, scratch, text};
 
-const KINDS: [&str; 6] = [".csv", ".svg", ".html", ".txt", ".json", ".jsonl"];
+const KINDS: [&str; 7] = [".csv", ".svg", ".html", ".txt", ".json", ".jsonl", ".toml"];
 
 /// Every file under `dir`, relative to it, but the hidden marker by which
 /// gridswarm knows a folder as its own (`staging.rs`), which is no output.

@@ -498,7 +498,7 @@ impl Page<'_> {
     fn text(&self) -> String {
         format!(
             "failures: scenario {}, {} robots, algorithm {}, {} runs per count and rules, base seed {}, engine {}\n{}\n{}\n\
-             {} runs; {}; wrote failures.csv, failures-runs.csv, failures.svg, report.html, provenance.json in {}\n",
+             {} runs; {}; wrote failures.csv, failures-runs.csv, failures.svg, report.html, provenance.json{} in {}\n",
             crate::output::shown(&self.scenario.name),
             self.robots,
             self.opts.protocol.algorithm,
@@ -509,6 +509,8 @@ impl Page<'_> {
             RULES_NOTE,
             self.runs.len(),
             Times { command_s: self.started.elapsed().as_secs_f64(), runs_s: self.wall_time_s },
+            // The other rules' scenario, written beside the results for its runs.
+            self.variants.iter().filter_map(|v| v.file.as_deref()).map(|f| format!(", {f}")).collect::<String>(),
             self.opts.protocol.out.display()
         )
     }
