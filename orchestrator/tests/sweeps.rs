@@ -175,3 +175,30 @@ fn the_help_states_the_budget_the_code_uses() {
         assert!(help.contains(&rule), "{args:?}: {help}");
     }
 }
+
+/// `experiment failures` and `radio` give every run the round budget of
+/// their largest team (one number, which their reproduce commands name),
+/// not the old fixed 100,000 rounds; `--max-rounds` still overrides it.
+#[test]
+fn failures_and_radio_runs_have_the_round_budget() {
+    let dir = scratch("protocol-budget");
+    let limit = |out: &Path| -> u64 {
+        let p: serde_json::Value = serde_json::from_slice(&fs::read(out.join("provenance.json")).unwrap()).unwrap();
+        p["parameters"]["max_rounds"].as_u64().unwrap_or_else(|| panic!("{p}"))
+    };
+    for (k, args) in [
+        ["experiment", "failures", "--robots", "3", "--killed", "0", "--runs", "1"],
+        ["experiment", "radio", "--robots", "3", "--loss", "0", "--runs", "1"],
+    ]
+    .iter()
+    .enumerate()
+    {
+        let out = dir.join(format!("budget-{k}"));
+        assert_ok(&gridswarm(&[&args[..], &["--out", out.to_str().unwrap()]].concat()));
+        let budget = limit(&out);
+        assert!(budget < 100_000 && budget % ROUNDS_PER_VERTEX as u64 == 0, "{args:?}: {budget}");
+        let out = dir.join(format!("given-{k}"));
+        assert_ok(&gridswarm(&[&args[..], &["--max-rounds", "77", "--out", out.to_str().unwrap()]].concat()));
+        assert_eq!(limit(&out), 77, "{args:?}");
+    }
+}

@@ -441,7 +441,8 @@ struct Distributed {
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
     situation: Option<u8>,
     /// A run not stopped after this many rounds ends incomplete [default: 100000; `experiment
-    /// readings`: the round budget, 100 rounds per vertex the team can reach, at most 100000].
+    /// readings`, `failures` and `radio`: the round budget, 100 rounds per vertex the team can
+    /// reach, at most 100000; `failures` and `radio` take their largest team's].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     max_rounds: Option<u32>,
 }
@@ -476,7 +477,7 @@ impl ProtocolArgs {
             runs,
             seed,
             situation: situation(self.distributed.situation),
-            max_rounds: self.distributed.max_rounds(),
+            max_rounds: self.distributed.max_rounds,
             engine: self.engine,
             out,
             progress: experiment::stderr_is_terminal(),

@@ -311,6 +311,7 @@ pub fn run(opts: &FailuresOptions) -> Result<(Vec<FailureRow>, String)> {
     // The command's clock, for the wall time it prints.
     let started = std::time::Instant::now();
     let (scenario, robots) = prepare(opts)?;
+    let opts = &FailuresOptions { protocol: opts.protocol.with_round_limit(&scenario, &[robots])?, ..opts.clone() };
     let runs_per = opts.protocol.runs_per(DEFAULT_RUNS, DEFAULT_RUNS_DISTRIBUTED);
     // Before any run: an unwritable --out fails now, not after the runs.
     let stage = Staging::begin(&opts.protocol.out)?;
@@ -398,7 +399,7 @@ impl Page<'_> {
             self.scenario.situation.number(),
             o.protocol.algorithm,
             self.robots,
-            o.protocol.max_rounds,
+            o.protocol.rounds(),
             v.rules.cell()
         )
     }
@@ -422,7 +423,7 @@ impl Page<'_> {
                 unvisited vertex); `params` below is the scenario as loaded, with survivor_step set per rules",
             "reproduce": self.variants.iter().map(|v| (v.rules.cell().to_string(), json!(self.reproduce(v)))).collect::<serde_json::Map<_, _>>(),
             "crash_times": format!("rounds 1 to {}, at an offset below {} s into the round", schedule::RANDOM_ROUNDS, schedule::RANDOM_OFFSET_S),
-            "max_rounds": o.protocol.max_rounds,
+            "max_rounds": o.protocol.rounds(),
             "engine": o.protocol.engine.describe(),
             "transport": o.protocol.engine.transport(),
             "statistics": "search time (mean ± 1.96 std/sqrt(n)) and rounds over completed runs; counts are means per \

@@ -264,6 +264,7 @@ pub fn run(opts: &RadioOptions) -> Result<(Vec<RadioRow>, String)> {
     // The command's clock, for the wall time it prints.
     let started = std::time::Instant::now();
     let scenario = prepare(opts)?;
+    let opts = &RadioOptions { protocol: opts.protocol.with_round_limit(&scenario, &opts.robots)?, ..opts.clone() };
     let runs_per = opts.protocol.runs_per(DEFAULT_RUNS, DEFAULT_RUNS_DISTRIBUTED);
     // Before any run: an unwritable --out fails now, not after the runs.
     let stage = Staging::begin(&opts.protocol.out)?;
@@ -321,9 +322,9 @@ impl Page<'_> {
                 o.protocol.scenario,
                 self.scenario.situation.number(),
                 o.protocol.algorithm,
-                o.protocol.max_rounds
+                o.protocol.rounds()
             ),
-            "max_rounds": o.protocol.max_rounds,
+            "max_rounds": o.protocol.rounds(),
             "engine": o.protocol.engine.describe(),
             "transport": o.protocol.engine.transport(),
             "statistics": "search time (mean ± 1.96 std/sqrt(n)) over completed runs; counts are means per run over \
@@ -430,7 +431,7 @@ mod tests {
             runs: Some(2),
             seed: 5,
             situation: None,
-            max_rounds: 10,
+            max_rounds: Some(10),
             engine: Engine::InProcess,
             out: PathBuf::new(),
             progress: false,

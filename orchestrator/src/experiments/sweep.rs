@@ -76,7 +76,8 @@ pub struct ProtocolOptions {
     pub runs: Option<u32>,
     pub seed: u64,
     pub situation: Option<Situation>,
-    pub max_rounds: u32,
+    /// `--max-rounds`; `None`: the round budget ([`ProtocolOptions::with_round_limit`]).
+    pub max_rounds: Option<u32>,
     pub engine: Engine,
     pub out: PathBuf,
     pub progress: bool,
@@ -103,6 +104,29 @@ impl ProtocolOptions {
         Ok(scenario)
     }
 
+    /// The options with every run's round limit resolved: `--max-rounds`,
+    /// or the round budget ([`crate::budget`]) of the largest of `teams`
+    /// on the scenario's map, one number for the whole experiment, which
+    /// its reproduce commands name.
+    pub fn with_round_limit(&self, scenario: &Scenario, teams: &[usize]) -> Result<ProtocolOptions> {
+        let mut limit = self.max_rounds;
+        if limit.is_none() {
+            let world = scenario.world();
+            let mut most = 1;
+            for &n in teams {
+                let starts = contract::start_vertices(scenario, &world, n)?;
+                most = most.max(crate::budget::rounds(&world, &starts).1);
+            }
+            limit = Some(most);
+        }
+        Ok(ProtocolOptions { max_rounds: limit, ..self.clone() })
+    }
+
+    /// Every run's round limit, once resolved; the old fixed limit before.
+    pub fn rounds(&self) -> u32 {
+        self.max_rounds.unwrap_or(gridswarm::scenario::limits::DEFAULT_MAX_ROUNDS)
+    }
+
     /// Runs per point: `--runs`, or the experiment's default for the engine.
     pub fn runs_per(&self, in_process: u32, distributed: u32) -> u32 {
         self.runs.unwrap_or(match self.engine {
@@ -120,7 +144,7 @@ impl ProtocolOptions {
     ) -> Result<(Vec<(K, u32, ProtoRun)>, f64)> {
         let jobs: Vec<Job> = planned.iter().map(|(_, _, j)| j.clone()).collect();
         let setting =
-            Setting { scenario_arg: &self.scenario, scenario, algorithm: self.algorithm, max_rounds: self.max_rounds };
+            Setting { scenario_arg: &self.scenario, scenario, algorithm: self.algorithm, max_rounds: self.rounds() };
         let started = Instant::now();
         let results = execute(self.engine, &setting, &jobs, self.progress)?;
         let wall_time_s = started.elapsed().as_secs_f64();
