@@ -129,16 +129,7 @@ mod tests {
         map.set_visited(right, false);
         let candidates: Vec<VertexId> = g.neighbors(me)[..g.degree()].to_vec();
         let others = [NeighbourView { id: 1, at: at(-2, 1), choice: Some(at(-2, 0)), searching: true }];
-        let view = View {
-            grid: g,
-            map: &map,
-            position: me,
-            round: 0,
-            candidates: &candidates,
-            neighbours: if neighbour { &others } else { &[] },
-            blocked: &[],
-            visited_choice: Default::default(),
-        };
+        let view = View::of(g, &map, me, &candidates, if neighbour { &others } else { &[] });
         (0..20)
             .map(|seed| {
                 let mut rng = RuleRng::seed_from_u64(seed);

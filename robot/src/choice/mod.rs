@@ -87,6 +87,30 @@ pub struct View<'a> {
     pub visited_choice: VisitedChoice,
 }
 
+/// For the rules' tests: a view at round 0 with nothing blocked for good
+/// and the paper's reading of rule (2), the rest as given.
+#[cfg(test)]
+impl<'a> View<'a> {
+    pub(crate) fn of(
+        grid: &'a Grid,
+        map: &'a Map,
+        position: VertexId,
+        candidates: &'a [VertexId],
+        neighbours: &'a [NeighbourView],
+    ) -> Self {
+        View {
+            grid,
+            map,
+            position,
+            round: 0,
+            candidates,
+            neighbours,
+            blocked: &[],
+            visited_choice: VisitedChoice::default(),
+        }
+    }
+}
+
 impl View<'_> {
     pub fn visited(&self, v: VertexId) -> bool {
         self.map.visited(v)

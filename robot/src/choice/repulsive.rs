@@ -108,16 +108,7 @@ mod tests {
         let me = at(0, 0);
         let candidates: Vec<VertexId> = g.neighbors(me)[..g.degree()].to_vec();
         let others = [NeighbourView { id: 1, at: at(2, 0), choice: None, searching: true }];
-        let view = View {
-            grid: g,
-            map: &map,
-            position: me,
-            round: 0,
-            candidates: &candidates,
-            neighbours: &others,
-            blocked: &[],
-            visited_choice,
-        };
+        let view = View { visited_choice, ..View::of(g, &map, me, &candidates, &others) };
         let mut rng = RuleRng::seed_from_u64(7);
         let mut n = vec![0; candidates.len()];
         for _ in 0..6000 {

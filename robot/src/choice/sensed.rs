@@ -241,16 +241,7 @@ mod tests {
         // (where `frontier` would step) and row 3's, the frontier.
         let me = at(g, 0, 2);
         let candidates: Vec<VertexId> = g.neighbors(me)[..g.degree()].to_vec();
-        let view = View {
-            grid: g,
-            map: &map,
-            position: me,
-            round: 0,
-            candidates: &candidates,
-            neighbours: &[],
-            blocked: &[],
-            visited_choice: Default::default(),
-        };
+        let view = View::of(g, &map, me, &candidates, &[]);
         assert!(candidates.iter().any(|&c| g.coord(c).j == 1 && !map.visited(c)));
         for rule in [new as fn() -> Box<dyn ChoiceRule>, new_coord] {
             for seed in 0..20 {
@@ -273,16 +264,7 @@ mod tests {
         assert!(!is_frontier(g, &map, at(g, 1, 0)) && !is_frontier(g, &map, at(g, 3, 0)));
         let me = at(g, 4, 0);
         let candidates = [at(g, 3, 0)];
-        let view = View {
-            grid: g,
-            map: &map,
-            position: me,
-            round: 0,
-            candidates: &candidates,
-            neighbours: &[],
-            blocked: &[],
-            visited_choice: Default::default(),
-        };
+        let view = View::of(g, &map, me, &candidates, &[]);
         let step = FrontierSensed::default().choose(&view, &mut RuleRng::seed_from_u64(1));
         assert_eq!(step, Some(at(g, 3, 0)));
     }
