@@ -18,7 +18,9 @@
 //! 3. **Stop.** Rules (3)/(4). A robot whose knowledge leaves nothing
 //!    undetected stops and floods the stop; one cut off behind failed robots
 //!    stops on its own only, and searches again once one of them is heard.
-//!    A robot that hears a stop stops and relays it.
+//!    A robot that hears a stop stops and relays it. What the human
+//!    controller's base station relayed (from [`CONTROLLER`]) it learns and
+//!    does not pass on: the controller sent it to every robot.
 //! 4. **Choice.** It waits for the choices of its higher-priority
 //!    neighbours (step 4) until `t_wait` after the exchange, and on for
 //!    those that say they still wait themselves (`Frame::Wait`, sent every
@@ -45,7 +47,7 @@ use crate::io::{micros, Listen, Motor, Note, Output, Tick, Time, Transmit};
 use crate::map::{Map, RobotId};
 use crate::params::{Params, Situation, SlotRule};
 use crate::policy::Policy;
-use crate::protocol::Frame;
+use crate::protocol::{Frame, CONTROLLER};
 use crate::robot::{Robot, RobotConfig, Sensing, Stop};
 use crate::spot::{Spot, Spots};
 
@@ -205,6 +207,8 @@ pub struct Peer<'g> {
     /// A stop that ends the search is known: carried in every map from now on.
     stop_known: bool,
     stop_flooded: bool,
+    /// The stop came from the controller's relay, not from a robot.
+    stop_relayed: bool,
     heard: Vec<Heard>,
     expected: Vec<Expect>,
     /// Targets this robot has flooded (found or relayed).
@@ -269,6 +273,7 @@ impl<'g> Peer<'g> {
             ack_deadline: 0,
             stop_known: false,
             stop_flooded: false,
+            stop_relayed: false,
             heard: Vec::with_capacity(16),
             expected: Vec::new(),
             flooded: Spots::default(),
@@ -549,6 +554,10 @@ impl<'g> Peer<'g> {
     }
 
     fn on_frame(&mut self, now: Time, from: RobotId, arrived: Time, f: &Frame, out: &mut Output<Frame>) {
+        if from == CONTROLLER {
+            self.on_relay(f, out);
+            return;
+        }
         if f.from() != from {
             out.notes.push(Note::Malformed);
             return;
@@ -666,6 +675,23 @@ impl<'g> Peer<'g> {
         let acked = std::mem::take(&mut self.acks);
         let refused = std::mem::take(&mut self.refusals);
         self.send(out, Frame::Ack { round: self.round, from: self.id(), acked, refused }, now);
+    }
+
+    /// A flood the controller relayed: learnt, whatever the round, and not
+    /// passed on, so the robots' own flood within `r_c` is what it is
+    /// under `Broadcast::Flood` (a flood heard from a robot later is
+    /// passed on as news). Only floods come that way.
+    fn on_relay(&mut self, f: &Frame, out: &mut Output<Frame>) {
+        let Frame::Flood { targets, stop, .. } = f else {
+            out.notes.push(Note::Malformed);
+            return;
+        };
+        let Some(robot) = self.robot.as_mut() else { return };
+        robot.learn_targets(targets);
+        if *stop && !self.stop_known {
+            self.stop_known = true;
+            self.stop_relayed = true;
+        }
     }
 
     /// A flood: targets and the stop, relayed once, whatever the round.
@@ -799,7 +825,8 @@ impl<'g> Peer<'g> {
         out.notes.push(Note::Stopped { ends_search, relayed, exhausted });
         if ends_search {
             self.stop_known = true;
-            if !self.stop_flooded {
+            // A stop the controller relayed reached everyone already.
+            if !self.stop_flooded && !(relayed && self.stop_relayed) {
                 self.stop_flooded = true;
                 self.send(out, Frame::Flood { round: self.round, from: self.id(), targets: vec![], stop: true }, now);
             }
@@ -1005,4 +1032,56 @@ fn compatible(robot: &Robot, a0: VertexId, a1: VertexId, b0: VertexId, b1: Verte
     a1 != b1
         && swept_min_distance(g.position(a0), g.position(a1), g.position(b0), g.position(b1))
             >= 2.0 * robot.config().r_safe
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Point;
+    use crate::lattice::{Coord, Lattice, LatticeKind};
+
+    fn floods(out: &Output<Frame>) -> Vec<(Vec<Spot>, bool)> {
+        out.send
+            .iter()
+            .filter_map(|t| match &t.payload {
+                Frame::Flood { targets, stop, .. } => Some((targets.clone(), *stop)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// What the controller relayed a robot learns and keeps to itself; the
+    /// same news heard from a robot it passes on, as under the flood alone.
+    #[test]
+    fn a_relayed_flood_is_learnt_and_not_passed_on() {
+        let g = &Grid::new(Lattice::new(LatticeKind::Triangular, 1.0), Point::new(-5.0, -5.0), Point::new(5.0, 5.0));
+        let v = g.id_of(Coord::new(0, 0)).unwrap();
+        let robot = RobotConfig::new(0, Policy::Repulsive, Situation::One, 3, 0.3, 1);
+        let mut p = Peer::new(g, PeerConfig::new(robot, &Params::default()));
+        let mut out = Output::default();
+        let tick = Tick { round: 0, start: 0, at: v, open: 0x3f, occupied: 0, targets: vec![] };
+        p.wake(0, Some(&tick), [], &mut out);
+        let t = Spot { x: 3, y: 4 };
+        let relayed = Frame::Flood { round: 0, from: 7, targets: vec![t], stop: false };
+        p.wake(10, None, [(CONTROLLER, 10, &relayed)], &mut out);
+        assert!(p.robot.as_ref().unwrap().map().targets.contains(t), "learnt");
+        assert!(floods(&out).is_empty(), "not passed on: {:?}", floods(&out));
+        assert!(out.notes.is_empty(), "{:?}", out.notes);
+        let heard = Frame::Flood { round: 0, from: 7, targets: vec![t], stop: false };
+        p.wake(20, None, [(7, 20, &heard)], &mut out);
+        assert_eq!(floods(&out), vec![(vec![t], false)], "a robot's flood is passed on once");
+        p.wake(30, None, [(8, 30, &heard)], &mut out);
+        assert!(floods(&out).is_empty(), "and only once");
+        // Only floods come from the controller.
+        let map_like = Frame::Commit { round: 0, from: 7, moving: false };
+        p.wake(40, None, [(CONTROLLER, 40, &map_like)], &mut out);
+        assert_eq!(out.notes, vec![Note::Malformed]);
+        // A relayed stop halts it without a flood of its own.
+        let stop = Frame::Flood { round: 0, from: 7, targets: vec![], stop: true };
+        p.wake(50, None, [(CONTROLLER, 50, &stop)], &mut out);
+        assert!(floods(&out).is_empty(), "{:?}", floods(&out));
+        p.wake(p.cfg.timing.decision_time(), None, [], &mut out);
+        assert!(p.halted(), "the stop is known");
+        assert!(floods(&out).is_empty(), "{:?}", floods(&out));
+    }
 }

@@ -199,6 +199,10 @@ impl Framed for Rc<[u8]> {
 
 /// Robot ids are below this (a robot does not know the team size).
 pub const MAX_ROBOTS: usize = u16::MAX as usize;
+/// The transmitter a robot sees on a frame the human controller's base
+/// station relayed (step 8): the one number [`MAX_ROBOTS`] leaves free.
+/// The frame itself still names the robot that sent it.
+pub const CONTROLLER: RobotId = RobotId::MAX;
 /// A frame holds at most this many targets in situation 2 (a robot does not know how many).
 pub const MAX_TARGETS: usize = 1 << 20;
 

@@ -275,7 +275,10 @@ pub fn decode_to_agent(bytes: &[u8], l: &WireLimits) -> Result<ToAgent, WireErro
 fn check_wake(w: &Wake, l: &WireLimits) -> Result<(), WireError> {
     at_most("frames", w.frames.len(), l.items)?;
     for f in &w.frames {
-        range("transmitter", f.from as usize, l.robots)?;
+        // A robot, or the controller's base station relaying a flood.
+        if f.from != crate::protocol::CONTROLLER {
+            range("transmitter", f.from as usize, l.robots)?;
+        }
         at_most("frame bytes", f.bytes.0.len(), l.frame_bytes)?;
     }
     if let Some(t) = &w.tick {
@@ -603,7 +606,7 @@ mod tests {
                 o[i % no] ^= b;
             }
             if let Ok(ToAgent::Wake(w)) = decode_to_agent(&w, &L) {
-                prop_assert!(w.frames.iter().all(|f| (f.from as usize) < L.robots));
+                prop_assert!(w.frames.iter().all(|f| (f.from as usize) < L.robots || f.from == crate::protocol::CONTROLLER));
             }
             if let Ok(ToWorld::Output(o)) = decode_to_world(&o, &L) {
                 prop_assert!(o.send.iter().all(|s| s.bytes.0.len() <= L.frame_bytes));

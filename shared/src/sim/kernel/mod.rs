@@ -654,9 +654,10 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
     }
 
     /// The controller heard flood `d`: if it tells it something new, it
-    /// sends it on, as it was, to every robot over its own link (the sender
-    /// hears its own frame back and drops it, as any receiver would).
+    /// sends it on, as it was, to every robot over its own link, as its
+    /// own transmission ([`crate::protocol::CONTROLLER`]).
     fn relay(&mut self, d: Delivery<P>) {
+        let d = Delivery { from: crate::protocol::CONTROLLER, ..d };
         let Some((targets, stop)) = d.payload.flood() else { return };
         if !self.controller.news(&targets, stop) {
             return;
