@@ -155,6 +155,16 @@ fn a_small_scale_experiment() {
     }
     assert_svg(&out.join("scale.svg"), &["robots", "Wall time per round", "Peak memory"]);
     assert_report(&out.join("report.html"), &["Scaling", "scale.csv", "in_process"]);
+    // Each count's runs have the sweeps' round budget, 100 rounds a vertex
+    // the team can reach, not the fixed 100,000 of a lone `run`.
+    let p: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("provenance.json")).unwrap()).unwrap();
+    let per_count = p["parameters"]["round_budget"]["per_count"].as_array().expect("a budget per count");
+    assert_eq!(per_count.len(), 2, "{p}");
+    for c in per_count {
+        let (va, rounds) = (c["va"].as_u64().unwrap(), c["rounds"].as_u64().unwrap());
+        assert!(va > 0 && rounds == 100 * va && rounds < 100_000, "{c}");
+    }
+    assert_eq!(p["parameters"]["max_rounds"], per_count[1]["rounds"], "{p}");
 }
 
 #[test]

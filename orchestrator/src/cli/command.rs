@@ -441,8 +441,8 @@ struct Distributed {
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=2))]
     situation: Option<u8>,
     /// A run not stopped after this many rounds ends incomplete [default: 100000; `experiment
-    /// readings`, `failures` and `radio`: the round budget, 100 rounds per vertex the team can
-    /// reach, at most 100000; `failures` and `radio` take their largest team's].
+    /// readings`, `failures`, `radio` and `scale`: the round budget, 100 rounds per vertex the
+    /// team can reach, at most 100000; `failures` and `radio` take their largest team's].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     max_rounds: Option<u32>,
 }
@@ -538,7 +538,7 @@ fn experiment_kind(kind: ExperimentKind) -> Result<String, Error> {
                 scenario,
                 algorithm,
                 situation: situation(d.situation),
-                max_rounds: d.max_rounds(),
+                max_rounds: d.max_rounds,
                 out,
                 progress,
                 transport,

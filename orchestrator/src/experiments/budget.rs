@@ -32,6 +32,15 @@ pub fn rounds(world: &World, starts: &[VertexId]) -> (usize, u32) {
     (va, budget as u32)
 }
 
+/// The budget's rule in words, as summaries record it.
+pub fn rule() -> String {
+    format!(
+        "{ROUNDS_PER_VERTEX} rounds per vertex of Va (the vertices the scenario's layout for the team \
+         reaches), at most {}, for every algorithm; --max-rounds overrides it",
+        limits::DEFAULT_MAX_ROUNDS
+    )
+}
+
 /// Every run's round limit in one sweep: `--max-rounds` when given, else
 /// each (map, robot count)'s budget.
 #[derive(Clone, Debug)]
@@ -90,11 +99,7 @@ impl Budgets {
             .map(|m| robots.iter().zip(m).map(|(n, (va, b))| json!({ "robots": n, "va": va, "rounds": b })).collect())
             .collect();
         json!({
-            "rule": format!(
-                "{ROUNDS_PER_VERTEX} rounds per vertex of Va (the vertices the scenario's layout for the team \
-                 reaches), at most {}, for every algorithm; --max-rounds overrides it",
-                limits::DEFAULT_MAX_ROUNDS
-            ),
+            "rule": rule(),
             "rounds_per_vertex": ROUNDS_PER_VERTEX,
             "per_map": per_map,
         })

@@ -48,7 +48,8 @@ pub struct ScaleOptions {
     pub scenario: Option<String>,
     pub algorithm: Policy,
     pub situation: Option<Situation>,
-    pub max_rounds: u32,
+    /// `--max-rounds`; else each count's round budget ([`crate::budget`]).
+    pub max_rounds: Option<u32>,
     pub out: PathBuf,
     pub progress: bool,
     /// What carries the runs' messages (the bench compares both).
@@ -352,6 +353,16 @@ fn time_in_process(
     (rounds, ms / rounds.max(1) as f64)
 }
 
+/// Each count's round budget and its rule (`null` under `--max-rounds`).
+fn budget_json(opts: &ScaleOptions, budgets: &[(usize, u32)]) -> Value {
+    if opts.max_rounds.is_some() {
+        return Value::Null;
+    }
+    let per_count: Vec<Value> =
+        opts.robots.iter().zip(budgets).map(|(n, (va, b))| json!({ "robots": n, "va": va, "rounds": b })).collect();
+    json!({ "rule": crate::budget::rule(), "per_count": per_count })
+}
+
 /// Runs the experiment; returns the rows and the text for stdout.
 pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
     // The command's clock, for the wall time it prints.
@@ -393,6 +404,11 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         }
         starts.push(st);
     }
+    // Each count's round budget, blind to the algorithm (crate::budget).
+    let budgets: Vec<(usize, u32)> = (opts.robots.iter().zip(&starts))
+        .map(|(&n, st)| crate::budget::rounds(&worlds[&scenario_for(opts, n)].1, st))
+        .collect();
+    let limits: Vec<u32> = budgets.iter().map(|b| opts.max_rounds.unwrap_or(b.1)).collect();
     // Before any run: an unwritable --out fails now, not after the runs.
     let stage = Staging::begin(&opts.out)?;
 
@@ -406,20 +422,13 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         let (scenario, world) = &worlds[&name];
         for r in 0..opts.runs {
             let seed = run_seed(opts.seed, n, u64::from(r));
-            let mut ro = RunOptions::for_experiment(
-                name.clone(),
-                opts.algorithm,
-                n,
-                seed,
-                scenario.situation,
-                0,
-                opts.max_rounds,
-            );
+            let mut ro =
+                RunOptions::for_experiment(name.clone(), opts.algorithm, n, seed, scenario.situation, 0, limits[i]);
             ro.net.transport = opts.transport;
             let what = format!("run {r} with {n} robots, seed {seed}");
             let v = run::execute_as(&ro, &what, &mut warnings).inspect_err(|_| bar.finish_and_clear())?;
             let mut cfg = RunConfig::new(opts.algorithm, seed, scenario.situation);
-            cfg.max_rounds = opts.max_rounds;
+            cfg.max_rounds = limits[i];
             cfg.record_trajectories = false;
             cfg.measure_coverage = false;
             let (inproc_rounds, inproc_ms_per_round) = time_in_process(world, scenario, &starts[i], &cfg);
@@ -486,7 +495,8 @@ pub fn run(opts: &ScaleOptions) -> Result<(Vec<ScaleRow>, String)> {
         "seed": opts.seed,
         "seed_derivation": "run r with N robots has seed derive(derive(seed, N), r) with gridswarm::rng::derive",
         "situation": opts.situation.map(|s| s.number().to_string()).unwrap_or_else(|| "the scenario's".into()),
-        "max_rounds": opts.max_rounds,
+        "max_rounds": limits.iter().max(),
+        "round_budget": budget_json(opts, &budgets),
         "cores": threads,
         "transport": super::sweep::Engine::Distributed.transport(),
         "distributed": "one world-server and one robot-agent process per robot over iceoryx2; round wall time \
@@ -615,7 +625,7 @@ mod tests {
             scenario: None,
             algorithm: Policy::Repulsive,
             situation: None,
-            max_rounds: 10,
+            max_rounds: Some(10),
             out: PathBuf::from("x"),
             progress: false,
             transport: Default::default(),
