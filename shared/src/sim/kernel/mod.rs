@@ -130,6 +130,10 @@ pub struct Kernel<'w, P> {
     everyone: Rc<[u32]>,
     /// Slots in a row closed with no robot searching ([`Kernel::quiet_enough`]).
     quiet: u32,
+    /// The stated bounds of the world's parameters, and slots in a row
+    /// past one in which robots searched and none moved ([`Kernel::stalled`]).
+    bounds: crate::bounds::Bounds,
+    stall: u32,
     exchange: Time,
     hop: Time,
     slot_limit: Time,
@@ -223,6 +227,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             controller: Controller::new(p.broadcast),
             everyone: (0..n as u32).collect(),
             quiet: 0,
+            bounds: crate::bounds::Bounds::of(p),
+            stall: 0,
             exchange,
             hop: micros(p.t_hop),
             slot_limit,
@@ -799,8 +805,11 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             // those the flood reached this slot have stopped, the others
             // would learn it from the robots they meet.
             self.ended = Some("stop");
+        } else if self.stalled(moved - report.refused as u64) {
+            self.ended = Some("past_bound");
         } else if self.round >= self.cfg.max_rounds && searching_left(&self.bots) {
             self.ended = Some("max_rounds");
+            self.stats.past_bound = self.past_bound();
         } else if !searching_left(&self.bots)
             && !self.thaw_ahead()
             && self.stops_in_flight == 0
@@ -811,6 +820,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 Some(if self.bots.iter().any(|b| b.halted && b.body != Body::Dead) { "cut_off" } else { "no_robots" });
         } else if self.round >= self.cfg.max_rounds {
             self.ended = Some("max_rounds");
+            self.stats.past_bound = self.past_bound();
         } else {
             self.now = end;
             self.push(end, Ev::SlotStart);
@@ -833,6 +843,42 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
         self.quiet += 1;
         let parked = self.bots.iter().any(|b| b.halted && b.body == Body::Running);
         !parked || self.quiet > self.hops_across() + 1
+    }
+
+    /// Whether the run is past a stated bound and stalled there: robots
+    /// searched and none moved in each of the last [`STALL_ROUNDS`] slots,
+    /// past a bound each time, and no fault is due that could change it.
+    /// The world ends the record of such a run, as it does at its round
+    /// limit; it tells the robots nothing. Inside every bound the count
+    /// never starts. Notes why in `past_bound` when it ends the run.
+    ///
+    /// [`STALL_ROUNDS`]: crate::bounds::STALL_ROUNDS
+    fn stalled(&mut self, moved: u64) -> bool {
+        if moved > 0 || !searching_left(&self.bots) {
+            self.stall = 0;
+            return false;
+        }
+        let Some(why) = self.past_bound() else {
+            self.stall = 0;
+            return false;
+        };
+        self.stall += 1;
+        let due = self.cfg.faults.iter().any(|f| f.round >= self.round);
+        if self.stall < crate::bounds::STALL_ROUNDS || due {
+            return false;
+        }
+        self.stats.past_bound = Some(format!("no robot moved for {} rounds, {why}", self.stall));
+        true
+    }
+
+    /// The liveness bound the run is past now, from its radio and the
+    /// slowness of its running robots, if any.
+    fn past_bound(&self) -> Option<String> {
+        let slow: Vec<(usize, Time)> = (self.bots.iter().enumerate())
+            .filter(|(_, b)| b.body == Body::Running && b.slow > 0)
+            .map(|(k, b)| (k, b.slow))
+            .collect();
+        self.bounds.past(&self.cfg.radio, &slow)
     }
 
     /// Whether a running robot sends a stop the controller has not heard
