@@ -14,10 +14,10 @@ use crate::peer::{Timing, MAX_WIDEN};
 use crate::sim::{FaultKind, Radio, Time};
 
 /// Slots in a row, past a bound, in which robots searched and none moved,
-/// after which the world ends the run's record `past_bound`. Ten times the
-/// longest the robots stand still on purpose and then go on
-/// (`TOO_SLOW_SLOTS`, 10 slots, after a map later than the widest window),
-/// halved: a run past a bound that still moves now and then is not ended.
+/// after which the world ends the run's record `past_bound`: five times the
+/// longest robots stand still on purpose and then go on (`TOO_SLOW_SLOTS`,
+/// 10 slots after a map later than the widest window), so that a run past a
+/// bound that still moves now and then is not ended.
 pub const STALL_ROUNDS: u32 = 50;
 
 /// The stated bounds of one world's parameters.
