@@ -167,8 +167,7 @@ mod tests {
 
     #[test]
     fn past_names_the_bound_and_the_robot() {
-        let mut p = Params::default();
-        p.slot = SlotRule::Fixed;
+        let p = Params { slot: SlotRule::Fixed, ..Params::default() };
         let b = Bounds::of(&p);
         let radio = Radio::default();
         assert_eq!(b.past(&radio, &[(1, 3_502_000)]), None);

@@ -167,8 +167,7 @@ fn only_cases_past_a_bound_end_past_bound() {
     let (mut past, mut ended) = (0, 0);
     for i in 0..2000 {
         let case = vopr::case(37, i);
-        let mut params = Params::default();
-        params.slot = case.slot;
+        let params = Params { slot: case.slot, ..Params::default() };
         let is_past = Bounds::of(&params).past_ever(&case.config, case.robots);
         let r = worlds.run(&case);
         let ends = r.protocol.ended_by == "past_bound";
