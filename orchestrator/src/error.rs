@@ -46,16 +46,24 @@ pub const EXIT_INCOMPLETE: u8 = 3;
 /// refused because its parameters would let them (`check`'s S0).
 pub const EXIT_COLLISION: u8 = 4;
 
+/// Exit status of a search that went past a stated bound (ARCHITECTURE.md,
+/// "Bounds") and stalled there: `ended_by` `past_bound`, its headline
+/// naming the bound and the robots.
+pub const EXIT_PAST_BOUND: u8 = 5;
+
 /// Whether robots collided in a run whose algorithm promises they never do.
 pub fn collided(r: &gridswarm::outcome::RunResult) -> bool {
     r.algorithm.collision_free() && r.collisions > 0
 }
 
 /// A search's exit status: [`EXIT_COLLISION`] if it [`collided`] (even if
-/// it found everything), else 0 if it completed, [`EXIT_INCOMPLETE`] if not.
+/// it found everything), else 0 if it completed, [`EXIT_PAST_BOUND`] if it
+/// ended `past_bound`, [`EXIT_INCOMPLETE`] if it ended otherwise.
 pub fn search_status(r: &gridswarm::outcome::RunResult) -> u8 {
     if collided(r) {
         EXIT_COLLISION
+    } else if r.protocol.ended_by == "past_bound" {
+        EXIT_PAST_BOUND
     } else if r.complete {
         0
     } else {

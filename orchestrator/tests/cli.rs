@@ -383,11 +383,14 @@ fn simulate_json(args: &[&str]) -> serde_json::Value {
     all.extend_from_slice(args);
     let o = gridswarm(&all);
     // Exit status 3: the search ended incomplete, 4: robots collided under
-    // an algorithm that promises they never do, as the summary says.
+    // an algorithm that promises they never do, 5: it went past a stated
+    // bound and stalled, as the summary says.
     let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("one JSON object");
     let collided = v["collisions"].as_u64().unwrap() > 0 && v["algorithm"] != "ru";
     let want = if collided {
         4
+    } else if v["ended_by"] == "past_bound" {
+        5
     } else if v["complete"] == true {
         0
     } else {
@@ -503,6 +506,23 @@ fn ended_by_names_the_real_reason() {
     assert!(stdout(&o).contains("INCOMPLETE (no_robots"), "{}", stdout(&o));
     assert!(!stdout(&o).contains("round limit"), "{}", stdout(&o));
     assert_eq!(simulate_json(&["--robots", "3"])["ended_by"], "stop");
+}
+
+#[test]
+fn past_a_bound_a_stalled_run_says_which_and_exits_5() {
+    // Issue 37: a lone robot slow past the fixed slot's bound never moves.
+    let args = ["--robots", "1", "--algorithm", "frontier", "--seed", "5", "--slot", "fixed", "--max-rounds", "1500"];
+    let past = [&args[..], &["--slow", "0@5:4000"]].concat();
+    let v = simulate_json(&past);
+    assert_eq!((v["ended_by"].as_str(), v["rounds"].as_u64()), (Some("past_bound"), Some(55)), "{v}");
+    let why = "no robot moved for 50 rounds, robot 0 slow by 4 s, past the fixed slot's bound of 3.502 s";
+    assert_eq!(v["past_bound"], why);
+    let o = gridswarm(&[&["simulate"], &past[..]].concat());
+    assert_eq!(o.status.code(), Some(5), "{}", stderr(&o));
+    assert!(stdout(&o).contains(&format!("INCOMPLETE (past_bound: {why}) after 55 rounds")), "{}", stdout(&o));
+    // Just inside it: complete, and no summary says past_bound.
+    let inside = simulate_json(&[&args[..], &["--slow", "0@5:3500"]].concat());
+    assert!(inside["complete"] == true && inside.get("past_bound").is_none(), "{inside}");
 }
 
 #[test]

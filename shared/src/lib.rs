@@ -32,6 +32,7 @@ pub use gridswarm_transport::nofile;
 
 pub mod assumptions;
 pub mod bound;
+pub mod bounds;
 pub mod engine;
 pub mod lfp;
 pub mod near;

@@ -54,10 +54,11 @@ pub fn run_json(args: &[&str]) -> Value {
 
 /// The JSON summary of a `simulate` or `run` whose search finished: exit
 /// status 4 if robots collided under an algorithm that promises they never
-/// do, else 0 if it completed, 3 if it ended incomplete, as it says.
+/// do, else 5 if it ended past a stated bound, 0 if it completed, 3 if it
+/// ended incomplete otherwise, as it says.
 pub fn finished(out: &Output, args: &[&str]) -> Value {
     let code = out.status.code();
-    assert!(matches!(code, Some(0 | 3 | 4)), "gridswarm {args:?} failed ({:?}): {}", out.status, text(&out.stderr));
+    assert!(matches!(code, Some(0 | 3 | 4 | 5)), "gridswarm {args:?} failed ({:?}): {}", out.status, text(&out.stderr));
     let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
     assert_eq!(code, Some(search_status(&v)), "exit status for {v}");
     v
@@ -68,6 +69,8 @@ pub fn search_status(v: &Value) -> i32 {
     let promises_none = !matches!(v["algorithm"].as_str(), Some("ru" | "lfp" | "oracle"));
     if promises_none && v["collisions"].as_u64().unwrap_or(0) > 0 {
         4
+    } else if v["ended_by"] == "past_bound" {
+        5
     } else if v["complete"] == true {
         0
     } else {
@@ -76,10 +79,11 @@ pub fn search_status(v: &Value) -> i32 {
 }
 
 /// Runs `gridswarm simulate` or `run` with ARGS; expects the search to
-/// finish, complete (exit status 0) or not (3), or with robots collided (4).
+/// finish, complete (exit status 0) or not (3), with robots collided (4),
+/// or past a stated bound (5).
 pub fn search(args: &[&str]) -> Output {
     let out = gridswarm().args(args).output().expect("gridswarm runs");
-    assert!(matches!(out.status.code(), Some(0 | 3 | 4)), "gridswarm {args:?} failed: {}", text(&out.stderr));
+    assert!(matches!(out.status.code(), Some(0 | 3 | 4 | 5)), "gridswarm {args:?} failed: {}", text(&out.stderr));
     out
 }
 

@@ -185,6 +185,43 @@ fn same_trajectories_as_simulate_under_the_fixed_slot() {
     }
 }
 
+/// Past a stated bound (a lone robot slow by 4 s under the fixed slot,
+/// issue 37) both engines end the run's record `past_bound` at the same
+/// round, naming the bound, with exit status 5 (`finished` checks it).
+#[test]
+fn a_run_past_a_bound_ends_past_bound_in_both_engines() {
+    let _s = serial();
+    let dir = scratch("past-bound");
+    let args = [
+        "--scenario",
+        "paper",
+        "--robots",
+        "1",
+        "--algorithm",
+        "frontier",
+        "--seed",
+        "5",
+        "--situation",
+        "2",
+        "--slot",
+        "fixed",
+        "--max-rounds",
+        "1500",
+        "--slow",
+        "0@5:4000",
+    ];
+    let (d, s) = (dir.join("run"), dir.join("sim"));
+    let summary = run_into(&d, &args);
+    search(&[&["simulate", "--out", s.to_str().unwrap()][..], &args[..]].concat());
+    assert_same_run("past bound", &d, &s, &summary);
+    let sim: Value = serde_json::from_slice(&fs::read(s.join("summary.json")).unwrap()).unwrap();
+    let why = "no robot moved for 50 rounds, robot 0 slow by 4 s, past the fixed slot's bound of 3.502 s";
+    for v in [&summary, &sim] {
+        assert_eq!((v["ended_by"].as_str(), v["past_bound"].as_str()), (Some("past_bound"), Some(why)), "{v}");
+        assert_eq!(num(&v["rounds"]), 55);
+    }
+}
+
 /// Under the local choice order, and with robots waiting on a frozen
 /// neighbour past half a `t_wait` (so they send `Wait` frames, which
 /// their neighbours hold in their radio buffers), both engines make the

@@ -1,6 +1,7 @@
 //! Exit statuses of `gridswarm`, through the binary: 0 a search that
 //! completed, 3 one that ended incomplete (every robot failed, or the round
-//! limit), 1 an error, 2 a usage error; and an agent that fails at start
+//! limit), 5 one past a stated bound that stalled, 1 an error, 2 a usage
+//! error; and an agent that fails at start
 //! ends the run at once with its own words.
 
 use std::fs;
@@ -97,6 +98,12 @@ fn every_documented_exit_status_case_exits_as_the_readme_s_table_says() {
         (&["check", "random:5,break=3.1.2"], 3, "`check` found a failing assumption"),
         (&["simulate", "--robots", "13", "--seed", "1", "--loss", "0.5", "--max-rounds", "400"], 4, "robots collided"),
         (&["simulate", "--scenario", tight], 4, "the run was refused"),
+        (
+            &["simulate", "--robots", "1", "--seed", "5", "--slot", "fixed", "--slow", "0@5:4000"],
+            5,
+            "past a stated bound",
+        ),
+        (&["run", "--robots", "1", "--seed", "5", "--slot", "fixed", "--slow", "0@5:4000"], 5, "no robot moved for 50"),
         (&["run", "--scenario", tight], 4, "`check`'s S0 fails"),
     ];
     for &(args, want, words) in cases {
@@ -118,7 +125,14 @@ fn the_help_lists_the_exit_statuses() {
     assert_eq!(code, Some(0));
     let help = text(&out.stdout);
     let table = &help[help.find("Exit status:").expect("an exit status section")..];
-    for line in ["0  success", "1  error", "2  usage error", "3  the search ended incomplete", "4  robots collided"] {
+    for line in [
+        "0  success",
+        "1  error",
+        "2  usage error",
+        "3  the search ended incomplete",
+        "4  robots collided",
+        "5  the search went past a stated bound",
+    ] {
         assert!(table.contains(line), "no {line:?} in {table}");
     }
 }

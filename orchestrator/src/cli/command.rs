@@ -10,7 +10,8 @@
 //! (unknown algorithm, bad robot range, ...); 3 the search ended incomplete
 //! (`simulate`, `run`) or `check` found an assumption that does not hold;
 //! 4 robots collided under an algorithm that promises they never do, or
-//! its parameters would let them (`check`'s S0) and the search was refused.
+//! its parameters would let them (`check`'s S0) and the search was refused;
+//! 5 the search went past a stated bound and stalled (`past_bound`).
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -421,7 +422,10 @@ const EXIT_STATUS: &str = "Exit status:
      failing assumption (or `map-setup` wrote a sidecar with which one fails)
   4  robots collided under an algorithm that promises they never do (simulate, run: every grid
      algorithm but ru; its outputs are written), or the run was refused because the parameters let
-     them (check S0 fails: robots on adjacent vertices, or passing or moving at once, within 2 r_safe)";
+     them (check S0 fails: robots on adjacent vertices, or passing or moving at once, within 2 r_safe)
+  5  the search went past a stated bound (radio delay, a slow robot; ARCHITECTURE.md \"Bounds\") and
+     no robot moved for 50 rounds (simulate, run: ended_by past_bound, its line names the bound and
+     the robots; its outputs are written)";
 
 /// Writes to stdout without `print!`'s panic on a closed pipe
 /// (`gridswarm experiment | head` must not end in a panic).

@@ -182,7 +182,7 @@ pub const CSV_COLUMNS: &str = "runs,completed_runs,completion_rate,mean_search_t
     mean_retransmissions,mean_lost,mean_timeouts,mean_unsure,mean_false_suspicions,mean_rejoins,\
     mean_forced_slots,failures_injected,failures_detected,unaware,mean_detection_delay_rounds,\
     mean_detection_delay_s,ended_stop,ended_exhausted,ended_false_stop,ended_cut_off,ended_no_robots,\
-    ended_max_rounds";
+    ended_max_rounds,ended_past_bound";
 
 /// The statistics as CSV cells, in [`CSV_COLUMNS`]' order.
 pub fn csv_cells(s: &ProtoStats) -> String {
@@ -270,12 +270,16 @@ mod tests {
         b.complete = false;
         b.ended_by = "max_rounds".into();
         b.collisions = 0;
-        let s = ProtoStats::of(&[a, b]);
-        assert_eq!(s.completion_rate, 0.5);
+        let mut c = b.clone();
+        c.ended_by = "past_bound".into();
+        c.moves = 0;
+        let s = ProtoStats::of(&[a, b, c]);
+        assert_eq!(s.completion_rate, 1.0 / 3.0);
         assert_eq!(s.collisions_per_million_moves, 2.0);
         assert_eq!(s.mean_search_time_s, Some(100.0));
         assert_eq!(s.ci95_search_time_s, None);
-        assert_eq!(s.endings(), "stop 1, max_rounds 1");
+        assert_eq!(s.endings(), "stop 1, max_rounds 1, past_bound 1");
+        assert!(csv_cells(&s).ends_with(",1,0,0,0,0,1,1") && CSV_COLUMNS.ends_with(",ended_past_bound"));
         assert_eq!(s.mean_retransmissions, 4.0);
         assert_eq!(csv_cells(&s).split(',').count(), CSV_COLUMNS.split(',').count());
         assert_eq!(run_csv_cells(&ProtoRun::default()).split(',').count(), RUN_CSV_COLUMNS.split(',').count());

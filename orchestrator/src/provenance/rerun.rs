@@ -194,9 +194,10 @@ fn scenario_arg(p: &Value, temp: &Path) -> Result<String> {
 }
 
 /// Runs this program with `args`; its stdout discarded, its stderr shown.
-/// A search that ended incomplete (status 3) or with robots collided (4)
-/// repeated its outputs too.
+/// A search that ended incomplete (status 3), with robots collided (4) or
+/// past a stated bound (5) repeated its outputs too.
 fn run_child(args: &[String]) -> Result<()> {
+    use crate::error::{EXIT_COLLISION, EXIT_INCOMPLETE, EXIT_PAST_BOUND};
     let exe = std::env::current_exe().map_err(|e| Error::Run(format!("cannot find this program: {e}")))?;
     let status = Command::new(exe)
         .args(args)
@@ -205,9 +206,7 @@ fn run_child(args: &[String]) -> Result<()> {
         .map_err(|e| Error::Run(format!("cannot start the rerun: {e}")))?;
     match status.code() {
         Some(0) => Ok(()),
-        Some(c) if c == i32::from(crate::error::EXIT_INCOMPLETE) || c == i32::from(crate::error::EXIT_COLLISION) => {
-            Ok(())
-        }
+        Some(c) if [EXIT_INCOMPLETE, EXIT_COLLISION, EXIT_PAST_BOUND].iter().any(|&e| c == i32::from(e)) => Ok(()),
         _ => Err(Error::Run(format!("the rerun `gridswarm {}` failed ({status})", args.join(" ")))),
     }
 }

@@ -15,7 +15,20 @@ pub fn ended_by_phrase(ended_by: &str) -> &'static str {
         "cut_off" => "every live robot halted, cut off behind failed robots",
         "no_robots" => "no robot was left searching",
         "max_rounds" => "round limit reached",
+        "past_bound" => "the run went past a stated bound and stalled",
         _ => "unknown end",
+    }
+}
+
+/// How a run ended, as the terminal says it: [`ended_by_phrase`], and for
+/// a run past a stated bound which bound and which robots
+/// (`ProtocolStats::past_bound`), so that no such run ends silently.
+pub fn ended_text(p: &ProtocolStats) -> String {
+    let phrase = ended_by_phrase(&p.ended_by);
+    match (&p.past_bound, p.ended_by.as_str()) {
+        (Some(why), "past_bound") => why.clone(),
+        (Some(why), _) => format!("{phrase}; past a stated bound: {why}"),
+        (None, _) => phrase.to_string(),
     }
 }
 
@@ -72,7 +85,7 @@ pub fn failure_value(f: &FailureRecord) -> Value {
 /// The protocol's fields of `summary.json`, top-level keys.
 pub fn summary_fields(result: &RunResult) -> Value {
     let p: &ProtocolStats = &result.protocol;
-    json!({
+    let mut v = json!({
         "ended_by": p.ended_by,
         "stop_round": p.stop_round,
         "stop_s": p.stop_s,
@@ -94,7 +107,12 @@ pub fn summary_fields(result: &RunResult) -> Value {
         "forced_slots": p.forced_slots,
         "late_motors": p.late_motors,
         "failures": p.failures.iter().map(failure_value).collect::<Vec<_>>(),
-    })
+    });
+    // Only a run past a stated bound has it: every other summary is unchanged.
+    if let Some(why) = &p.past_bound {
+        v["past_bound"] = json!(why);
+    }
+    v
 }
 
 /// One line per injected failure: when, and how long until it was declared.
@@ -173,5 +191,13 @@ mod tests {
         assert!(settings_line(&summary).starts_with("faults: none; "));
         assert!(line.contains("robot 2 crash in round 3") && line.contains("after 2 rounds (7.500 s"), "{line}");
         assert_eq!(ended_by_phrase("max_rounds"), "round limit reached");
+        assert_eq!(ended_text(&r.protocol), "a robot's stop ended the search");
+        assert!(v.get("past_bound").is_none());
+        r.protocol.ended_by = "past_bound".into();
+        r.protocol.past_bound = Some("no robot moved for 50 rounds, robot 0 slow by 4 s".into());
+        assert_eq!(ended_text(&r.protocol), "no robot moved for 50 rounds, robot 0 slow by 4 s");
+        assert_eq!(summary_fields(&r)["past_bound"], "no robot moved for 50 rounds, robot 0 slow by 4 s");
+        r.protocol.ended_by = "max_rounds".into();
+        assert!(ended_text(&r.protocol).starts_with("round limit reached; past a stated bound: no robot"));
     }
 }

@@ -141,7 +141,7 @@ pub fn headline(scenario: &Scenario, result: &RunResult, engine: &str, extra: &s
         result.seed,
         result.situation,
         if ended.is_empty() { "-" } else { ended.as_str() },
-        crate::figures::ended_by_phrase(ended),
+        crate::figures::ended_text(&result.protocol),
         result.rounds,
         result.search_time_s,
         result.targets_found,

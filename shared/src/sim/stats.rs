@@ -13,8 +13,10 @@ use crate::map::RobotId;
 /// unfound (situation 1, nothing left to visit), `false_stop` a stop on an
 /// incomplete search (a fault of the protocol, which the simulation test
 /// looks for), `cut_off` every live robot halted behind failed ones,
-/// `no_robots` none left searching, `max_rounds` the round limit.
-pub const ENDINGS: [&str; 6] = ["stop", "exhausted", "false_stop", "cut_off", "no_robots", "max_rounds"];
+/// `no_robots` none left searching, `max_rounds` the round limit,
+/// `past_bound` a run past a stated bound in which no robot moved for
+/// [`crate::bounds::STALL_ROUNDS`] rounds ([`ProtocolStats::past_bound`] says which).
+pub const ENDINGS: [&str; 7] = ["stop", "exhausted", "false_stop", "cut_off", "no_robots", "max_rounds", "past_bound"];
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct FailureRecord {
@@ -92,6 +94,11 @@ pub struct ProtocolStats {
     pub relays: u64,
     /// How the run ended: one of [`ENDINGS`].
     pub ended_by: String,
+    /// For a run that ended `past_bound`, or at its round limit past a
+    /// stated bound: which bound, and which robots
+    /// ([`crate::bounds::Bounds::past`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub past_bound: Option<String>,
     /// Round and simulated time of the first stop that ends the search.
     pub stop_round: Option<u32>,
     pub stop_s: Option<f64>,

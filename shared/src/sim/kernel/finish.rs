@@ -1,13 +1,50 @@
 //! The end of a run: whether the search completed, which waiters never
-//! declared the failed robot they waited on, and the [`RunResult`].
+//! declared the failed robot they waited on, and the [`RunResult`]; and
+//! whether a run past a stated bound has stalled (`past_bound`).
 
 use super::{Body, Kernel};
 use crate::grid::VertexId;
 use crate::outcome::{RunMetrics, RunResult};
 use crate::params::Situation;
-use crate::sim::Framed;
+use crate::sim::{Framed, Time};
 
 impl<'w, P: Clone + Framed> Kernel<'w, P> {
+    /// Whether the run is past a stated bound and stalled there: robots
+    /// searched and none moved in each of the last [`STALL_ROUNDS`] slots,
+    /// past a bound each time, and no fault is due that could change it.
+    /// The world ends the record of such a run, as it does at its round
+    /// limit; it tells the robots nothing. Inside every bound the count
+    /// never starts. Notes why in `past_bound` when it ends the run.
+    ///
+    /// [`STALL_ROUNDS`]: crate::bounds::STALL_ROUNDS
+    pub(super) fn stalled(&mut self, moved: u64) -> bool {
+        if moved > 0 || !super::searching_left(&self.bots) {
+            self.stall = 0;
+            return false;
+        }
+        let Some(why) = self.past_bound() else {
+            self.stall = 0;
+            return false;
+        };
+        self.stall += 1;
+        let due = self.cfg.faults.iter().any(|f| f.round >= self.round);
+        if self.stall < crate::bounds::STALL_ROUNDS || due {
+            return false;
+        }
+        self.stats.past_bound = Some(format!("no robot moved for {} rounds, {why}", self.stall));
+        true
+    }
+
+    /// The liveness bound the run is past now, from its radio and the
+    /// slowness of its running robots, if any.
+    pub(super) fn past_bound(&self) -> Option<String> {
+        let slow: Vec<(usize, Time)> = (self.bots.iter().enumerate())
+            .filter(|(_, b)| b.body == Body::Running && b.slow > 0)
+            .map(|(k, b)| (k, b.slow))
+            .collect();
+        self.bounds.past(&self.cfg.radio, &slow)
+    }
+
     pub(super) fn finish(mut self) -> RunResult {
         let world = self.world;
         let ended = self.ended.unwrap_or("max_rounds");

@@ -130,6 +130,10 @@ pub struct Kernel<'w, P> {
     everyone: Rc<[u32]>,
     /// Slots in a row closed with no robot searching ([`Kernel::quiet_enough`]).
     quiet: u32,
+    /// The stated bounds of the world's parameters, and slots in a row
+    /// past one in which robots searched and none moved ([`Kernel::stalled`]).
+    bounds: crate::bounds::Bounds,
+    stall: u32,
     exchange: Time,
     hop: Time,
     slot_limit: Time,
@@ -223,6 +227,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             controller: Controller::new(p.broadcast),
             everyone: (0..n as u32).collect(),
             quiet: 0,
+            bounds: crate::bounds::Bounds::of(p),
+            stall: 0,
             exchange,
             hop: micros(p.t_hop),
             slot_limit,
@@ -800,8 +806,11 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             // those the flood reached this slot have stopped, the others
             // would learn it from the robots they meet.
             self.ended = Some("stop");
+        } else if self.stalled(moved - report.refused as u64) {
+            self.ended = Some("past_bound");
         } else if self.round >= self.cfg.max_rounds && searching_left(&self.bots) {
             self.ended = Some("max_rounds");
+            self.stats.past_bound = self.past_bound();
         } else if !searching_left(&self.bots)
             && !self.thaw_ahead()
             && self.stops_in_flight == 0
@@ -812,6 +821,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 Some(if self.bots.iter().any(|b| b.halted && b.body != Body::Dead) { "cut_off" } else { "no_robots" });
         } else if self.round >= self.cfg.max_rounds {
             self.ended = Some("max_rounds");
+            self.stats.past_bound = self.past_bound();
         } else {
             self.now = end;
             self.push(end, Ev::SlotStart);
