@@ -20,7 +20,7 @@
 //! - point 3's round bound, over a sample: runs with crashes or freezes and
 //!   nothing else wrong ([`Case::measures_liveness`]) against their
 //!   survivors' twins ([`Case::twin`]), whose 95th percentile the test
-//!   holds to 1.5 (no bound holds of every run: a lone survivor can walk
+//!   holds to 1.5, pooled and map by map (no bound holds of every run: a lone survivor can walk
 //!   visited vertices for a long time before it meets the news of a body);
 //! - under the fixed slot rule, no robot commands a move past a slot's end.
 //!
