@@ -561,6 +561,19 @@ impl<'g> Robot<'g> {
         self.map.any_failed() || self.map.bodies_now().next().is_some()
     }
 
+    /// Whether the survivor step applies: failures or bodies known now; or,
+    /// under rules that walk visited vertices at random (the paper's two,
+    /// and escape's around them), ever known to its map, revived or freed
+    /// since. A freeze that thawed still split the team's knowledge (the
+    /// thawed robot missed slots, the others' maps went on without it), and
+    /// walking visited vertices to mend that took thousands of rounds
+    /// (issue 37, point 4: 2,631 against 304). Frontier rules head for
+    /// what is left themselves. Never in a failure-free run.
+    fn survivors(&self) -> bool {
+        let walks = matches!(self.cfg.policy, Policy::Repulsive | Policy::Sequential | Policy::Escape);
+        self.faults_known() || (walks && !(self.map.failed.is_empty() && self.map.bodies.is_empty()))
+    }
+
     /// The sonar finds `v` free.
     pub fn clear_body(&mut self, v: VertexId) {
         self.map.free_body(v, self.round);
@@ -778,7 +791,7 @@ impl<'g> Robot<'g> {
     /// runs never get here, so they follow the paper exactly; with
     /// `survivor_step` off (the paper's rules under failure) nobody does.
     fn survivor_step(&mut self, cands: &[VertexId]) -> Option<VertexId> {
-        if !self.faults_known() || cands.iter().any(|&c| !self.map.visited(c)) {
+        if !self.survivors() || cands.iter().any(|&c| !self.map.visited(c)) {
             return None;
         }
         // Around the neighbours standing still if it can (one slow for good

@@ -20,7 +20,7 @@
 //! - point 3's round bound, over a sample: runs with crashes or freezes and
 //!   nothing else wrong ([`Case::measures_liveness`]) against their
 //!   survivors' twins ([`Case::twin`]), whose 95th percentile the test
-//!   holds to 1.5 (no bound holds of every run: a lone survivor can walk
+//!   holds to 1.5, pooled and map by map (no bound holds of every run: a lone survivor can walk
 //!   visited vertices for a long time before it meets the news of a body);
 //! - under the fixed slot rule, no robot commands a move past a slot's end.
 //!
@@ -215,6 +215,50 @@ impl Case {
             && self.config.policy.collision_free()
     }
 
+    /// The most one robot may be slow (µs) under the case's slot rule: a
+    /// late robot reacts twice in a slot, to sense and to decide after
+    /// listening a window of its own. Under the fixed rule both and its
+    /// choice fit the slot's decisions (3.5 s with the defaults); under the
+    /// adaptive rule the world's slot limit leaves room for two reactions
+    /// of `4 t_wait` (12 s, past every case's slowness). The same numbers
+    /// as the stated bounds' table (ARCHITECTURE.md; issue 37, point 3,
+    /// `bounds::Bounds::slow` once that lands).
+    pub fn slow_bound(&self) -> Time {
+        let t = Timing::from_params(&Params { slot: self.slot, ..Params::default() });
+        match t.decision {
+            Some(d) => {
+                let r = &self.config.radio;
+                let widen = (r.delay + r.jitter + 2 * t.hop).saturating_sub(t.exchange);
+                let window = t.exchange + widen.min(crate::peer::MAX_WIDEN * t.exchange);
+                d.saturating_sub(window + t.choice) / 2
+            }
+            None => 4 * t.wait,
+        }
+    }
+
+    /// Whether some robot of the case is slow past [`Case::slow_bound`].
+    pub fn slow_past_bound(&self) -> bool {
+        let bound = self.slow_bound();
+        self.config.faults.iter().any(|f| matches!(f.kind, FaultKind::Slow(t) if t > bound))
+    }
+
+    /// Whether the design promises the case ends (liveness): inside the
+    /// safety bound ([`Case::in_bound`]), and no robot slower than its
+    /// slot rule allows. Every map, rule, order and team size.
+    pub fn live_bound(&self) -> bool {
+        self.in_bound() && !self.slow_past_bound()
+    }
+
+    /// Whether the case is past a stated liveness bound: frames later than
+    /// the widest window, or a robot slower than its slot rule allows. Such
+    /// a run may stand still for good, and must then say so (issue 37,
+    /// "What to build" 2).
+    pub fn past_bound(&self) -> bool {
+        let r = &self.config.radio;
+        let t = Timing::from_params(&Params::default());
+        r.delay + r.jitter + t.hop > t.widest() || self.slow_past_bound()
+    }
+
     /// Whether the case measures point 3's liveness goal: crashes or
     /// freezes and nothing else wrong (no slow robot, no loss, frames
     /// within the stated bound), an algorithm whose robots detect failures
@@ -225,9 +269,10 @@ impl Case {
         !c.faults.is_empty() && only_failures && self.in_bound()
     }
 
-    /// Robots that end the run not running: crashed, or frozen and not thawed.
+    /// Robots that end the run not running: crashed, or frozen and not
+    /// thawed (a slow robot runs).
     pub fn gone(&self) -> usize {
-        let faults = &self.config.faults;
+        let faults: Vec<&Fault> = self.config.faults.iter().filter(|f| !matches!(f.kind, FaultKind::Slow(_))).collect();
         let mut robots: Vec<usize> = faults.iter().map(|f| f.robot).collect();
         robots.sort();
         robots.dedup();
