@@ -182,7 +182,8 @@ struct Expect {
     at: VertexId,
     missed: u32,
     /// Its last map was sent after that slot's window: it senses late, so
-    /// it hears this robot's map before it senses, and stays.
+    /// it hears this robot's map before it senses, and stays or moves only
+    /// holding this robot's answer or choice ([`Peer::sits_out`]).
     late_sender: bool,
 }
 
@@ -235,8 +236,8 @@ pub struct Peer<'g> {
     sensed_at: Time,
     /// It sensed after its exchange window's nominal end.
     sensed_late: bool,
-    /// It sensed late and heard a searching robot that sensed before it:
-    /// it stays this slot.
+    /// It sits the slot out ([`Peer::sits_out`]), or heard no map or too
+    /// late a map to know who is near: it stays this slot.
     late: bool,
     /// This slot does not follow one it took part in (its first, or back
     /// from a freeze): it expects nobody, so silence tells it nothing.
@@ -355,7 +356,7 @@ impl<'g> Peer<'g> {
         self.send_acks(now, out);
         // Behind another robot it stays whatever else it hears: it need
         // not listen on (a slow robot would pay another reaction for it).
-        if self.phase == Phase::Exchange && (now >= self.exchange_end(now) || self.behind()) {
+        if self.phase == Phase::Exchange && (now >= self.exchange_end(now) || self.sits_out()) {
             self.end_exchange(now, out);
         }
         if self.phase == Phase::Choosing {
@@ -747,12 +748,11 @@ impl<'g> Peer<'g> {
         self.deadline = self.window_end + self.cfg.timing.wait;
         self.beacon_at = self.window_end + self.beacon_period();
         // It sensed after its exchange window, among searching neighbours
-        // that sensed before it: their choices may be out already, and they
-        // have written it off for the slot; it sits the slot out. (A robot
-        // heard without its map counts as earlier.) The earliest of late
-        // robots goes on, and so does a late robot alone: its lateness
-        // concerns nobody, and a robot slow for good must still search.
-        self.late = self.behind();
+        // that sensed before it, and too late to choose with them: it sits
+        // the slot out (`sits_out`). The earliest of late robots goes on,
+        // and so does a late robot alone: its lateness concerns nobody, and
+        // a robot slow for good must still search.
+        self.late = self.sits_out();
         // Robots next to it, and not one map heard since it started: the
         // radio is slower than any window (or they all died at once). It
         // stays, until that silence has lasted `DEAF_WINDOWS` widest windows.
@@ -776,6 +776,24 @@ impl<'g> Peer<'g> {
     fn behind(&self) -> bool {
         let me = (self.sensed_at, self.id());
         self.sensed_late && self.heard.iter().any(|h| !h.halted && (!h.map || (h.sent, h.id) < me))
+    }
+
+    /// Behind, and too late to choose: it stays this slot, deciding in the
+    /// wake-up that finds it late. Their choices may be out already, and
+    /// those that closed their windows before its map came have written it
+    /// off for the slot. A robot that sensed within half a `t_wait` of the
+    /// slot's start still chooses, after listening a whole window from its
+    /// sensing (so it hears every late robot that sensed before it): it
+    /// hears every map sent on time before it decides, and like any robot
+    /// it moves only holding each neighbour's acknowledgement or a choice
+    /// compatible with its own, so a neighbour that wrote it off is safe
+    /// from it; those that waited for it still do when it answers. Sitting
+    /// out every slot instead, a robot slow for good never moved while a
+    /// searching robot was within its range, and robots whose way lay past
+    /// it waited by it for ever (issue 37).
+    fn sits_out(&self) -> bool {
+        let soon = self.sensed_at < self.slot_start + self.cfg.timing.wait / 2;
+        self.behind() && !(soon && self.cfg.robot.policy.collision_free())
     }
 
     /// The sonar's occupied neighbours that no map of this slot accounts
@@ -1019,7 +1037,7 @@ impl<'g> Peer<'g> {
 
 /// Whether `v` is the vertex, or next to the vertex, of a robot expected
 /// this slot whose map did not come (but for one that senses late: it
-/// stays behind this robot).
+/// hears this robot before it decides).
 fn near_missed(expected: &[Expect], grid: &Grid, v: VertexId) -> bool {
     expected.iter().any(|e| e.missed > 0 && !e.late_sender && (e.at == v || grid.neighbors(e.at).contains(&v)))
 }

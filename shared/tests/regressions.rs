@@ -225,7 +225,8 @@ fn of_two_late_robots_only_the_earlier_moves() {
     // robot 2 and the slow robot 0 sensed 1.3 ms apart, both after their
     // window; each ended its exchange before the other's map came, found
     // itself alone, and both stepped onto (7,1). A late robot now listens a
-    // whole window from its sensing, and only the earlier of the two moves.
+    // whole window from its sensing: the later of the two hears the earlier
+    // before it decides, and stays, or moves holding its answer (issue 37).
     let us = |robot, round, offset, kind| Fault { robot, round, offset, kind };
     let faults = vec![
         us(1, 4, 686_493, FaultKind::Crash),
