@@ -50,6 +50,8 @@ pub struct Referee<'w> {
     /// A robot on each vertex (any one of them if several), or `EMPTY`.
     occupant: Vec<u16>,
     visited: Bitset,
+    /// Vertices first visited by a move (the starts not counted).
+    visits: usize,
     found: Bitset,
     /// Where each robot ends this round; kept to avoid allocating per round.
     target: Vec<VertexId>,
@@ -84,6 +86,7 @@ impl<'w> Referee<'w> {
             heading: vec![None; starts.len()],
             occupant: vec![EMPTY; world.grid.len()],
             visited: Bitset::new(world.grid.len()),
+            visits: 0,
             found: Bitset::new(world.targets.len()),
             target: Vec::with_capacity(starts.len()),
             involved: vec![false; starts.len()],
@@ -122,6 +125,11 @@ impl<'w> Referee<'w> {
     /// Vertices robots have stood on.
     pub fn visited(&self) -> &Bitset {
         &self.visited
+    }
+
+    /// How many vertices moves have visited first (the starts not counted).
+    pub fn visits(&self) -> usize {
+        self.visits
     }
 
     /// How many targets were found so far, by anyone.
@@ -221,7 +229,10 @@ impl<'w> Referee<'w> {
         for (k, &v) in target.iter().enumerate() {
             self.pos[k] = v;
             self.occupant[v as usize] = k as u16;
-            self.visited.set(v as usize);
+            if !self.visited.get(v as usize) {
+                self.visits += 1;
+                self.visited.set(v as usize);
+            }
         }
         self.target = target;
         report

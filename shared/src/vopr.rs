@@ -215,48 +215,25 @@ impl Case {
             && self.config.policy.collision_free()
     }
 
-    /// The most one robot may be slow (µs) under the case's slot rule: a
-    /// late robot reacts twice in a slot, to sense and to decide after
-    /// listening a window of its own. Under the fixed rule both and its
-    /// choice fit the slot's decisions (3.5 s with the defaults); under the
-    /// adaptive rule the world's slot limit leaves room for two reactions
-    /// of `4 t_wait` (12 s, past every case's slowness). The same numbers
-    /// as the stated bounds' table (ARCHITECTURE.md; issue 37, point 3,
-    /// `bounds::Bounds::slow` once that lands).
-    pub fn slow_bound(&self) -> Time {
-        let t = Timing::from_params(&Params { slot: self.slot, ..Params::default() });
-        match t.decision {
-            Some(d) => {
-                let r = &self.config.radio;
-                let widen = (r.delay + r.jitter + 2 * t.hop).saturating_sub(t.exchange);
-                let window = t.exchange + widen.min(crate::peer::MAX_WIDEN * t.exchange);
-                d.saturating_sub(window + t.choice) / 2
-            }
-            None => 4 * t.wait,
-        }
-    }
-
-    /// Whether some robot of the case is slow past [`Case::slow_bound`].
-    pub fn slow_past_bound(&self) -> bool {
-        let bound = self.slow_bound();
-        self.config.faults.iter().any(|f| matches!(f.kind, FaultKind::Slow(t) if t > bound))
+    /// The stated bounds of the case's world ([`crate::bounds`]).
+    pub fn bounds(&self) -> crate::bounds::Bounds {
+        crate::bounds::Bounds::of(&Params { slot: self.slot, ..Params::default() })
     }
 
     /// Whether the design promises the case ends (liveness): inside the
-    /// safety bound ([`Case::in_bound`]), and no robot slower than its
-    /// slot rule allows. Every map, rule, order and team size.
+    /// safety bound ([`Case::in_bound`]) and past no liveness bound at any
+    /// round ([`crate::bounds::Bounds::past_ever`]: frames within the
+    /// widest window less two hops, no robot slower than its bound).
+    /// Every map, rule, order and team size.
     pub fn live_bound(&self) -> bool {
-        self.in_bound() && !self.slow_past_bound()
+        self.in_bound() && !self.past_bound()
     }
 
-    /// Whether the case is past a stated liveness bound: frames later than
-    /// the widest window, or a robot slower than its slot rule allows. Such
-    /// a run may stand still for good, and must then say so (issue 37,
-    /// "What to build" 2).
+    /// Whether the case is past a stated liveness bound at some round. Such
+    /// a run may stand still, or move without new ground, for good, and
+    /// must then say so (`past_bound`).
     pub fn past_bound(&self) -> bool {
-        let r = &self.config.radio;
-        let t = Timing::from_params(&Params::default());
-        r.delay + r.jitter + t.hop > t.widest() || self.slow_past_bound()
+        self.bounds().past_ever(&self.config, self.robots)
     }
 
     /// Whether the case measures point 3's liveness goal: crashes or
@@ -387,6 +364,10 @@ pub fn check(case: &Case, r: &RunResult, suspect_rounds: u32) -> Result<(), Viol
             );
             return broken("undeclared crash", why);
         }
+    }
+    if p.ended_by == "past_bound" && !case.past_bound() {
+        let why = format!("ended past_bound inside every stated bound: {}", p.past_bound.as_deref().unwrap_or("?"));
+        return broken("past_bound inside the bounds", why);
     }
     if p.ended_by == "max_rounds" {
         return Err(Violation::Endless);

@@ -9,29 +9,38 @@ use crate::params::Situation;
 use crate::sim::{Framed, Time};
 
 impl<'w, P: Clone + Framed> Kernel<'w, P> {
-    /// Whether the run is past a stated bound and stalled there: robots
-    /// searched and none moved in each of the last [`STALL_ROUNDS`] slots,
-    /// past a bound each time, and no fault is due that could change it.
-    /// The world ends the record of such a run, as it does at its round
-    /// limit; it tells the robots nothing. Inside every bound the count
-    /// never starts. Notes why in `past_bound` when it ends the run.
+    /// Whether the run is past a stated bound and stalled there, past a
+    /// bound in each of the slots counted and no fault due that could
+    /// change it: robots searched and none moved for [`STALL_ROUNDS`]
+    /// slots, or none visited a vertex first for [`AIMLESS_ROUNDS`] (robots
+    /// that swap between vertices they know for ever). The world ends the
+    /// record of such a run, as it does at its round limit; it tells the
+    /// robots nothing. Inside every bound the counts never start. Notes
+    /// why in `past_bound` when it ends the run.
     ///
     /// [`STALL_ROUNDS`]: crate::bounds::STALL_ROUNDS
+    /// [`AIMLESS_ROUNDS`]: crate::bounds::AIMLESS_ROUNDS
     pub(super) fn stalled(&mut self, moved: u64) -> bool {
-        if moved > 0 || !super::searching_left(&self.bots) {
-            self.stall = 0;
-            return false;
-        }
-        let Some(why) = self.past_bound() else {
-            self.stall = 0;
+        let visits = self.referee.visits();
+        let fresh = std::mem::replace(&mut self.visits, visits) < visits;
+        let past = if super::searching_left(&self.bots) { self.past_bound() } else { None };
+        let Some(why) = past else {
+            (self.stall, self.aimless) = (0, 0);
             return false;
         };
-        self.stall += 1;
-        let due = self.cfg.faults.iter().any(|f| f.round >= self.round);
-        if self.stall < crate::bounds::STALL_ROUNDS || due {
+        self.stall = if moved > 0 { 0 } else { self.stall + 1 };
+        self.aimless = if fresh { 0 } else { self.aimless + 1 };
+        if self.cfg.faults.iter().any(|f| f.round >= self.round) {
             return false;
         }
-        self.stats.past_bound = Some(format!("no robot moved for {} rounds, {why}", self.stall));
+        let said = if self.stall >= crate::bounds::STALL_ROUNDS {
+            format!("no robot moved for {} rounds, {why}", self.stall)
+        } else if self.aimless >= crate::bounds::AIMLESS_ROUNDS {
+            format!("no vertex visited for the first time in {} rounds, {why}", self.aimless)
+        } else {
+            return false;
+        };
+        self.stats.past_bound = Some(said);
         true
     }
 
@@ -42,7 +51,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             .filter(|(_, b)| b.body == Body::Running && b.slow > 0)
             .map(|(k, b)| (k, b.slow))
             .collect();
-        self.bounds.past(&self.cfg.radio, &slow)
+        let running = self.bots.iter().filter(|b| b.body == Body::Running && !b.halted).count();
+        self.bounds.past(&self.cfg.radio, &slow, running)
     }
 
     pub(super) fn finish(mut self) -> RunResult {

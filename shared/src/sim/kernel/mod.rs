@@ -134,6 +134,10 @@ pub struct Kernel<'w, P> {
     /// past one in which robots searched and none moved ([`Kernel::stalled`]).
     bounds: crate::bounds::Bounds,
     stall: u32,
+    /// Slots in a row past a bound in which no vertex was visited first,
+    /// and the referee's count of first visits at the last slot's end.
+    aimless: u32,
+    visits: usize,
     exchange: Time,
     hop: Time,
     slot_limit: Time,
@@ -229,6 +233,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             quiet: 0,
             bounds: crate::bounds::Bounds::of(p),
             stall: 0,
+            aimless: 0,
+            visits: 0,
             exchange,
             hop: micros(p.t_hop),
             slot_limit,
