@@ -226,14 +226,16 @@ impl Case {
     /// widest window less two hops, no robot slower than its bound).
     /// Every map, rule, order and team size.
     pub fn live_bound(&self) -> bool {
-        self.in_bound() && !self.past_bound()
+        self.in_bound() && !self.bounds().past_ever(&self.config, self.robots)
     }
 
-    /// Whether the case is past a stated liveness bound at some round. Such
-    /// a run may stand still, or move without new ground, for good, and
-    /// must then say so (`past_bound`).
+    /// Whether the case is past a stated liveness bound once its last
+    /// fault has come, for good. Such a run may stand still, or move
+    /// without new ground, for ever, and must then say so (`past_bound`).
+    /// (One past a bound only for a while is neither this nor
+    /// [`Case::live_bound`].)
     pub fn past_bound(&self) -> bool {
-        self.bounds().past_ever(&self.config, self.robots)
+        self.bounds().past_at(&self.config, self.robots, u32::MAX).is_some()
     }
 
     /// Whether the case measures point 3's liveness goal: crashes or
@@ -365,7 +367,7 @@ pub fn check(case: &Case, r: &RunResult, suspect_rounds: u32) -> Result<(), Viol
             return broken("undeclared crash", why);
         }
     }
-    if p.ended_by == "past_bound" && !case.past_bound() {
+    if p.ended_by == "past_bound" && case.live_bound() {
         let why = format!("ended past_bound inside every stated bound: {}", p.past_bound.as_deref().unwrap_or("?"));
         return broken("past_bound inside the bounds", why);
     }
