@@ -34,9 +34,11 @@ use crate::setup::RobotSetup;
 /// the survivor step's switch, how step 8 reaches every robot and rule
 /// (2)'s choice among visited vertices in the parameters, and the team,
 /// the grid frame and the targets told in the agreement, derived from the
-/// agent's setup. A hello starts with its
+/// agent's setup; version 8 `Wait` frames at growing intervals, and
+/// receivers' patience with them growing alike (issue 37: a robot of
+/// version 7 would give up on one of version 8). A hello starts with its
 /// version, so that a later world can read it whatever follows.
-pub const PROTOCOL_VERSION: u32 = 7;
+pub const PROTOCOL_VERSION: u32 = 8;
 
 /// A scenario as the processes of a run name it: its `name`, and the
 /// SHA3-256 of its canonical text (`Scenario::to_toml`, before the run's
