@@ -35,9 +35,11 @@ use crate::setup::RobotSetup;
 /// (2)'s choice among visited vertices in the parameters, and the team,
 /// the grid frame and the targets told in the agreement, derived from the
 /// agent's setup; version 8 frames the controller's base station relayed,
-/// delivered from [`crate::protocol::CONTROLLER`]. A hello starts with its
+/// delivered from [`crate::protocol::CONTROLLER`]; version 9 `Wait` frames
+/// at growing intervals, and receivers' patience with them growing alike
+/// (issue 37: a robot of version 8 would give up on one of version 9). A hello starts with its
 /// version, so that a later world can read it whatever follows.
-pub const PROTOCOL_VERSION: u32 = 8;
+pub const PROTOCOL_VERSION: u32 = 9;
 
 /// A scenario as the processes of a run name it: its `name`, and the
 /// SHA3-256 of its canonical text (`Scenario::to_toml`, before the run's

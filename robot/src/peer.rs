@@ -23,10 +23,13 @@
 //!    does not pass on: the controller sent it to every robot.
 //! 4. **Choice.** It waits for the choices of its higher-priority
 //!    neighbours (step 4) until `t_wait` after the exchange, and on for
-//!    those that say they still wait themselves (`Frame::Wait`, sent every
-//!    half `t_wait` while a robot waits: long chains in dense teams); those
-//!    still missing are suspected for the slot and treated as standing
-//!    still. Then it chooses (step 5) and broadcasts the choice.
+//!    those that say they still wait themselves (`Frame::Wait`, sent half
+//!    a `t_wait` into the wait, then at [`BEACON_GROWTH`] times the time
+//!    waited each time:
+//!    long chains in dense teams); those still missing are suspected for
+//!    the slot and treated as standing still (under a fixed slot, in time
+//!    for its choice to be acknowledged within the slot). Then it chooses
+//!    (step 5) and broadcasts the choice.
 //! 5. **Acknowledgement.** A robot that receives a choice acknowledges it
 //!    if it has not committed to a conflicting move (it will avoid it), and
 //!    refuses it otherwise.
@@ -64,6 +67,16 @@ pub const TOO_SLOW_SLOTS: u32 = 10;
 /// How long a robot with robots next to it and no map ever heard stays,
 /// in widest windows, before it reads its neighbours' silence as death.
 pub const DEAF_WINDOWS: Time = 10;
+
+/// How much longer a waiting robot's each next `Wait` comes, in time since
+/// its window, and how many times the time a slot had lasted at a robot's
+/// last `Wait` those behind it wait on for its next word ([`patience`]).
+/// Each `Wait` then comes with the time since the last to spare, and a
+/// dead robot deep in a chain is given up after at most this many times
+/// the wait so far (at least `t_wait`). Larger, fewer frames, slower
+/// detection; 4 keeps 10,000 robots under the paper's order within twice
+/// the local order's frames a robot-round (BENCHMARKS.md).
+pub const BEACON_GROWTH: Time = 4;
 
 /// The protocol's clock settings, in simulated microseconds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -746,7 +759,7 @@ impl<'g> Peer<'g> {
         }
         self.phase = Phase::Choosing;
         self.deadline = self.window_end + self.cfg.timing.wait;
-        self.beacon_at = self.window_end + self.beacon_period();
+        self.beacon_at = self.window_end + self.first_beacon();
         // It sensed after its exchange window, among searching neighbours
         // that sensed before it, and too late to choose with them: it sits
         // the slot out (`sits_out`). The earliest of late robots goes on,
@@ -932,20 +945,26 @@ impl<'g> Peer<'g> {
 
     /// At its deadline, step 4's wait ends for every robot it waits for
     /// that has been silent for `t_wait`: suspected for the slot, treated as
-    /// standing still. One that told it waits itself (`Frame::Wait`) within
-    /// `t_wait` is alive, behind a longer chain than `t_wait` covers: it
-    /// waits on, until `t_wait` after that robot's last word (or the fixed
-    /// slot's end). So a dead robot is still given up after `t_wait` of
-    /// silence, and a live one never is while its frames arrive.
+    /// standing still. One that told it waits itself (`Frame::Wait`) is
+    /// alive, behind a longer chain than `t_wait` covers: it waits on, for
+    /// as long after that robot's last word as the slot had lasted when the
+    /// word came, and at least `t_wait` ([`Peer::patience`]). So a dead
+    /// robot is given up after `t_wait` of silence, or [`BEACON_GROWTH`]
+    /// times the wait so
+    /// far deep in a chain, and a live one never is while its frames
+    /// arrive; but under a fixed slot it chooses, at the latest, in time
+    /// for its choice's acknowledgements to come back before the slot
+    /// ends ([`Peer::choose_by`]): a chain longer than the slot would
+    /// otherwise keep its tail standing every slot.
     fn expire(&mut self, now: Time, out: &mut Output<Frame>) {
-        let wait = self.cfg.timing.wait;
+        let cap = self.choose_by();
         let robot = self.robot.as_mut().expect("started");
         let awaited: Vec<RobotId> = robot.waiting_for().collect();
         let mut next = Time::MAX;
         for j in awaited {
             let said = self.heard.binary_search_by_key(&j, |h| h.id).map_or(0, |k| self.heard[k].waiting);
-            let until = said.max(self.window_end) + wait;
-            if until > now && until < self.slot_end {
+            let until = patience(self.cfg.timing.wait, self.window_end, self.slot_start, said).min(cap);
+            if until > now {
                 next = next.min(until);
             } else {
                 robot.suspect(j);
@@ -957,22 +976,43 @@ impl<'g> Peer<'g> {
         }
     }
 
-    /// How often a waiting robot says so: twice a `t_wait`, so that a
-    /// `Wait` reaches every robot waiting for it within its `t_wait`, with
-    /// half a `t_wait` to spare for exchange windows widened differently.
-    fn beacon_period(&self) -> Time {
+    /// Under a fixed slot, the latest time it may choose: its choice must
+    /// reach its neighbours and their acknowledgements come back (two of
+    /// the latencies it measured, each with its copies' hops, and a
+    /// reaction) before the slot's decisions end. `Time::MAX` when the
+    /// world closes the slot.
+    fn choose_by(&self) -> Time {
+        if self.slot_end == Time::MAX {
+            return Time::MAX;
+        }
+        let t = self.cfg.timing;
+        let trip = self.latency.1 + t.hop * t.copies as Time;
+        self.slot_end.saturating_sub(2 * t.choice + 2 * trip)
+    }
+
+    /// When it first says it still waits: half a `t_wait` after its
+    /// window, so that a `Wait` reaches every robot waiting for it within
+    /// its `t_wait`, with half a `t_wait` to spare for exchange windows
+    /// widened differently.
+    fn first_beacon(&self) -> Time {
         (self.cfg.timing.wait / 2).max(1)
     }
 
     /// Still waiting for choices ahead of it: at every beacon time it tells
-    /// the robots behind it that it is alive and waits (`Frame::Wait`). A
-    /// chain shorter than half a `t_wait` never sends one.
+    /// the robots behind it that it is alive and waits (`Frame::Wait`), at
+    /// [`BEACON_GROWTH`] times the time since its window each time (half a
+    /// `t_wait`, then 2, 8, 32 `t_wait`, ...): those behind it wait
+    /// on that many times as long after each word as the slot had lasted
+    /// ([`patience`]), so each `Wait` comes with the time since the last
+    /// to spare, and a robot at the end of a chain hundreds of links long
+    /// says so a few times a slot, not once every half `t_wait`. A chain
+    /// shorter than half a `t_wait` never sends one.
     fn beacon(&mut self, now: Time, out: &mut Output<Frame>) {
         if now < self.beacon_at {
             return;
         }
         while self.beacon_at <= now {
-            self.beacon_at += self.beacon_period();
+            self.beacon_at = next_beacon(self.window_end, self.beacon_at);
         }
         self.send(out, Frame::Wait { round: self.round, from: self.id() }, now);
     }
@@ -987,17 +1027,27 @@ impl<'g> Peer<'g> {
             if h.halted || !(h.map || h.choice.is_some()) {
                 continue;
             }
-            if h.refused_me {
-                return Acks::Conflict;
-            }
             let safe_choice = h.choice.is_some_and(|hc| {
                 robot.accounted().contains(&h.id) || h.accounted_me || compatible(robot, pos, c, h.at, hc)
             });
-            if !(safe_choice || h.acked_me) {
-                if h.choice.is_some() {
-                    // Known, not avoided on either side, and in conflict.
-                    return Acks::Conflict;
+            if h.refused_me || (h.choice.is_some() && !safe_choice && !h.acked_me) {
+                // Known, not avoided on either side, and in conflict: both
+                // stay, unless `h` should have waited for this choice (it
+                // gave this robot up, a chain being longer than its
+                // patience); then `h` stays, and this robot moves once it
+                // knows so, if its move is safe beside `h` standing still.
+                // Else, under a fixed slot, the robots that gave up on a
+                // long chain all at once would refuse each other for ever.
+                let yields = robot.precedes(h.id) && c != h.at && compatible(robot, pos, c, h.at, h.at);
+                match h.commit {
+                    _ if !yields => return Acks::Conflict,
+                    Some(true) => return Acks::Conflict,
+                    Some(false) => {}
+                    None => waiting = true,
                 }
+                continue;
+            }
+            if !(safe_choice || h.acked_me) {
                 waiting = true;
             }
             if c == h.at {
@@ -1033,6 +1083,25 @@ impl<'g> Peer<'g> {
         }
         self.phase = Phase::Committed;
     }
+}
+
+/// A waiting robot's next `Wait` after the one due at `at`: the time since
+/// its window ended at `window_end`, times [`BEACON_GROWTH`].
+fn next_beacon(window_end: Time, at: Time) -> Time {
+    window_end + BEACON_GROWTH * (at - window_end)
+}
+
+/// Until when a robot whose window ended at `window_end`, in a slot begun
+/// at `start`, waits for a robot whose last `Wait` arrived at `said` (0:
+/// none): `wait` after its window, and after a `Wait` at least `wait`, or
+/// [`BEACON_GROWTH`] times the time the slot had lasted when it came (the sender's next
+/// `Wait` comes at most that long after its window: [`Peer::beacon`]).
+fn patience(wait: Time, window_end: Time, start: Time, said: Time) -> Time {
+    let base = window_end + wait;
+    if said == 0 {
+        return base;
+    }
+    base.max(said + wait.max(BEACON_GROWTH * said.saturating_sub(start)))
 }
 
 /// Whether `v` is the vertex, or next to the vertex, of a robot expected
@@ -1101,5 +1170,41 @@ mod tests {
         p.wake(p.cfg.timing.decision_time(), None, [], &mut out);
         assert!(p.halted(), "the stop is known");
         assert!(floods(&out).is_empty(), "{:?}", floods(&out));
+    }
+
+    /// Every `Wait` of a robot still waiting reaches a robot waiting for it
+    /// before that robot's patience with it runs out, whichever of their
+    /// windows ended first (by up to the widest window) and however the
+    /// latency jitters inside the windows; and a robot that falls
+    /// silent is given up at most `BEACON_GROWTH` times the slot so far
+    /// after its last word.
+    #[test]
+    fn each_wait_comes_before_the_last_ones_patience_ends() {
+        let ms = 1000;
+        let (wait, widest) = (3000 * ms, 1050 * ms);
+        for own in [50 * ms, 500 * ms, widest] {
+            for other in [50 * ms, 500 * ms, widest] {
+                // Both windows take in the radio's latency (widened to it).
+                let most = own.min(other);
+                for (lat, next_lat) in [(0, most), (most, 0), (2 * ms, 2 * ms)] {
+                    // The follower's patience before any `Wait`.
+                    let mut deadline = patience(wait, other, 0, 0);
+                    let mut at = own + wait / 2;
+                    let mut arrived = at + lat;
+                    let mut n = 0;
+                    while at < 3600 * 1000 * ms {
+                        let what =
+                            format!("window {own} / {other} µs, latency {lat} then {next_lat}, Wait {n} at {at}");
+                        assert!(arrived <= deadline, "{what}: arrives at {arrived}, given up at {deadline}");
+                        deadline = patience(wait, other, 0, arrived);
+                        assert!(deadline - arrived <= wait.max(BEACON_GROWTH * arrived), "{what}");
+                        at = next_beacon(own, at);
+                        arrived = at + next_lat;
+                        n += 1;
+                    }
+                    assert!(n < 20, "a few `Wait` frames an hour, not {n}");
+                }
+            }
+        }
     }
 }

@@ -665,6 +665,15 @@ impl<'g> Robot<'g> {
             .map(|n| n.id)
     }
 
+    /// Whether neighbour `id` comes after this robot in step 4's order (it
+    /// waits for this robot's choice: [`Robot::waiting_for`]'s rule, the
+    /// other way round). Sequential policies only.
+    pub fn precedes(&self, id: RobotId) -> bool {
+        let (key, pos, me) = (self.key_of(self.pos), self.pos, self.cfg.id);
+        let behind = |n: &Neighbour| n.key < key || (n.key == key && n.at == pos && n.id < me);
+        self.sequential() && self.nbrs.iter().any(|n| n.id == id && behind(n))
+    }
+
     /// Whether every input step 5 needs has arrived.
     pub fn ready(&self) -> bool {
         self.next.is_none() && self.waiting_for().next().is_none()

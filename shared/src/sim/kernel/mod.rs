@@ -95,6 +95,9 @@ struct Bot<P> {
     /// robot sends its map, the stop in it, every slot: unless it fails,
     /// the controller hears it in the end, however lossy its link.
     sent_stop: bool,
+    /// It noted an unsure stay this round (counted at the round's end,
+    /// once, if it is still searching then: a stay is a robot-round).
+    unsure: bool,
 }
 
 /// The world of one run.
@@ -206,6 +209,7 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                 frames: 0,
                 bytes: 0,
                 sent_stop: false,
+                unsure: false,
             })
             .collect();
         let mut k = Kernel {
@@ -793,8 +797,10 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
             self.quiet = 0;
         }
         for b in self.bots.iter_mut() {
+            let unsure = std::mem::take(&mut b.unsure);
             if b.body == Body::Running && !b.halted {
                 searching += 1;
+                self.stats.unsure += unsure as u64;
             } else {
                 match b.idle.last_mut() {
                     Some(last) if last.1 + 1 == round => last.1 = round,

@@ -35,7 +35,8 @@ impl<'w, P: Clone + Framed> Kernel<'w, P> {
                     self.waiters.push((i, r as RobotId, self.round));
                 }
             }
-            Note::Unsure => st.unsure += 1,
+            // Counted at the round's end, once a robot-round.
+            Note::Unsure => self.bots[r].unsure = true,
             // For the record only: the search ends when the controller
             // hears the stop (`Kernel::to_controller`), not on this note.
             Note::Stopped { ends_search, relayed, exhausted } => {
