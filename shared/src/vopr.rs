@@ -230,12 +230,18 @@ impl Case {
     }
 
     /// Whether the case is past a stated liveness bound once its last
-    /// fault has come, for good. Such a run may stand still, or move
-    /// without new ground, for ever, and must then say so (`past_bound`).
-    /// (One past a bound only for a while is neither this nor
-    /// [`Case::live_bound`].)
+    /// fault has come, for good, and inside the others the design states
+    /// (no loss, jitter within the choice time, robots that avoid each
+    /// other: RU's particles are promised nothing). Such a run may stand
+    /// still, or move without new ground, for ever, and must then say so
+    /// (`past_bound`). (One past a bound only for a while is neither this
+    /// nor [`Case::live_bound`].)
     pub fn past_bound(&self) -> bool {
-        self.bounds().past_at(&self.config, self.robots, u32::MAX).is_some()
+        let (r, b) = (&self.config.radio, self.bounds());
+        r.loss == 0.0
+            && r.jitter <= b.jitter()
+            && self.config.policy.collision_free()
+            && b.past_at(&self.config, self.robots, u32::MAX).is_some()
     }
 
     /// Whether the case measures point 3's liveness goal: crashes or

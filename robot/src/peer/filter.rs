@@ -13,8 +13,9 @@ impl Peer<'_> {
     /// Held, of this round: acks, unless addressed to it after it chose
     /// (an ack changes nothing but whether the sender acked or refused
     /// this robot, which it reads only once it chose); commits, unless,
-    /// after it chose, from a robot it heard on the vertex it chose (the
-    /// only commit it reads); waits (what it reads of one is its arrival time, and only at its
+    /// after it chose, from a robot it heard on the vertex it chose, or
+    /// from one after it in step 4's order (whose staying it waits for in
+    /// a conflict, `Peer::acks`): the only commits it reads; waits (what it reads of one is its arrival time, and only at its
     /// deadline).
     /// Reading a held frame later, before the frames that came after it,
     /// leaves it as reading it on arrival would have: the radio hands them
@@ -27,7 +28,8 @@ impl Peer<'_> {
         let (mut except, mut tags) = ([0; 8], [0; 8]);
         if let Some(c) = self.robot.as_ref().and_then(Robot::choice) {
             tags[KIND_ACK as usize] = Listen::bit(self.id());
-            for h in self.heard.iter().filter(|h| !h.halted && h.at == c) {
+            let robot = self.robot.as_ref().expect("chose");
+            for h in self.heard.iter().filter(|h| !h.halted && (h.at == c || robot.precedes(h.id))) {
                 except[KIND_COMMIT as usize] |= Listen::bit(h.id);
             }
         }
