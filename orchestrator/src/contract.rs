@@ -1,8 +1,9 @@
-//! The one place where the command calls the shared crate's scenario,
-//! assumption and engine entry points. Those were written in parallel with
-//! this crate; keeping every call here means a signature change touches one
-//! file, and the rest of the command codes against these small wrappers,
-//! which also turn the shared crate's errors into the command's.
+//! Wrappers for the shared crate's scenario, assumption and engine entry
+//! points (loading a scenario, placing starts, checking assumptions,
+//! running a search), which also turn the shared crate's errors into the
+//! command's. Not the only caller: other modules call the library directly
+//! (`Scenario::parse` in `experiments/settings.rs` and
+//! `provenance/rerun.rs`, `Scenario::world` in many places).
 
 use gridswarm::grid::VertexId;
 use gridswarm::lfp::LfpParams;

@@ -2,8 +2,9 @@
 //! the command line (`cli`), experiments (`experiments`), process
 //! supervision for distributed runs (`supervise`), writers (`write`), and
 //! what made an output and repeating it (`provenance`).
-//! `contract` is the one place that calls the shared crate's scenario and
-//! engine entry points; `error` the errors every job returns. The modules
+//! `contract` wraps the shared crate's scenario and engine entry points
+//! (other modules also call the library directly); `error` the errors
+//! every job returns. The modules
 //! are re-exported at the top so that every path reads `crate::run`,
 //! `crate::report`, ...
 

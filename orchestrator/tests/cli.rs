@@ -471,7 +471,7 @@ fn simulate_loss_with_retries() {
     let lossy = simulate_json(&["--robots", "6", "--seed", "3", "--loss", "0.3", "--retries", "0"]);
     assert!(lossy["lost"].as_u64().unwrap() > 0 && lossy["retransmissions"] == 0, "{lossy}");
     assert!(lossy["unsure"].as_u64().unwrap() > 0 && lossy["timeouts"].as_u64().unwrap() > 0, "{lossy}");
-    // Without retries a loss this heavy can cost collisions (ARCHITECTURE.md,
+    // Without retries a loss this heavy can cost collisions (BENCHMARKS.md,
     // "Under loss": 1,582 per 10^6 moves at 0.3); they are counted.
     assert_eq!(lossy["collisions"].as_u64().unwrap() > 0, num(&lossy, "collisions_per_million_moves") > 0.0);
     assert_eq!(lossy["radio"]["loss"], 0.3);

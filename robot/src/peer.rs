@@ -42,7 +42,7 @@
 //!    really leaves.
 //!
 //! Why no two robots collide, and what loss does to that, is argued in
-//! ARCHITECTURE.md ("Safety").
+//! docs/safety.md (in brief: ARCHITECTURE.md, "Safety").
 
 use crate::geometry::swept_min_distance;
 use crate::grid::{Grid, VertexId};
