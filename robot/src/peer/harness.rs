@@ -26,6 +26,9 @@ pub struct Script {
     pub motor: Option<(Motor, Time)>,
     pub notes: Vec<Note>,
     pub sent: Vec<Frame>,
+    /// Frames its receive filter ([`Output::listen`]) held back, for its
+    /// next wake-up.
+    held: Vec<(RobotId, Time, Frame)>,
 }
 
 impl Script {
@@ -42,7 +45,19 @@ impl Script {
         let cfg = PeerConfig::new(robot, params);
         let at = grid.id_of(Coord::new(0, 0)).expect("in the box");
         let (peer, out) = (Peer::new(grid, cfg), Output::default());
-        Script { peer, t: cfg.timing, grid, at, now: 0, round: 0, out, motor: None, notes: vec![], sent: vec![] }
+        Script {
+            peer,
+            t: cfg.timing,
+            grid,
+            at,
+            now: 0,
+            round: 0,
+            out,
+            motor: None,
+            notes: vec![],
+            sent: vec![],
+            held: vec![],
+        }
     }
 
     /// The vertex at lattice coordinates `(i, j)`: east is `i`, and in
@@ -76,14 +91,31 @@ impl Script {
         self.tick_at(start, round, start, occupied, &[]);
     }
 
-    /// Frames `(from, arrived, frame)` wake it at `now`.
-    pub fn hear(&mut self, now: Time, frames: &[(RobotId, Time, Frame)]) {
-        self.wake(now, None, frames);
+    /// Frames `(from, arrived, frame)` reach it at `now`: they wake it if
+    /// its receive filter lets one through, else they wait in its radio for
+    /// its next wake-up, as on a real radio. Returns whether it woke.
+    /// Alarms due before `now` ring first.
+    pub fn hear(&mut self, now: Time, frames: &[(RobotId, Time, Frame)]) -> bool {
+        self.until(now);
+        let listen = self.out.listen;
+        let woken = frames.iter().any(|(id, _, f)| listen.wakes(*id, Some(f.header())));
+        self.held.extend(frames.iter().cloned());
+        if woken {
+            self.wake(now, None, &[]);
+        }
+        woken
     }
 
-    /// One frame from `from`, arriving (and waking it) at `now`.
-    pub fn deliver(&mut self, now: Time, from: RobotId, f: Frame) {
-        self.hear(now, &[(from, now, f)]);
+    /// One frame from `from`, arriving at `now`.
+    pub fn deliver(&mut self, now: Time, from: RobotId, f: Frame) -> bool {
+        self.hear(now, &[(from, now, f)])
+    }
+
+    /// Time passes to `now`, the robot woken at each of its alarms before.
+    pub fn until(&mut self, now: Time) {
+        while self.out.alarm.is_some_and(|a| a < now) {
+            self.alarm();
+        }
     }
 
     /// Wakes it at its own alarm; returns when that was.
@@ -96,6 +128,8 @@ impl Script {
     fn wake(&mut self, now: Time, tick: Option<&Tick>, frames: &[(RobotId, Time, Frame)]) {
         assert!(now >= self.now, "time runs forward: {now} after {}", self.now);
         self.now = now;
+        let mut frames = frames.to_vec();
+        frames.splice(0..0, std::mem::take(&mut self.held));
         self.peer.wake(now, tick, frames.iter().map(|(id, at, f)| (*id, *at, f)), &mut self.out);
         if let Some(m) = self.out.motor {
             self.motor = Some(m);
@@ -209,12 +243,102 @@ mod rules {
         assert!(h.motor.is_some());
         let late = 200 * MS;
         let m = h.map(3, west, start + late);
-        h.deliver(start + late, 3, m);
-        assert!(h.out.send.is_empty() && h.out.motor.is_none(), "the late map changes nothing this slot");
+        assert!(!h.deliver(start + late, 3, m), "committed, it does not listen: the late map waits");
 
-        // Slot 2: its window is widened to take in a map that late (and a hop).
+        // Slot 2: read on waking, the late map widens its window to take in
+        // a map that late (and a hop).
         let start = 20_000 * MS;
         h.slot(2, start, &[]);
         assert_eq!(h.out.alarm, Some(start + late + t.hop), "widened by the late map");
+    }
+
+    /// Slot 0 with neighbour 2 east of it (ahead in step 4's order), whose
+    /// map arrives 30 ms in; the robot wakes at its window's end.
+    fn behind_two() -> Script {
+        let mut h = Script::new(0);
+        let east = h.v(1, 0);
+        h.slot(0, 0, &[east]);
+        let m = h.map(2, east, 0);
+        h.deliver(30 * MS, 2, m);
+        assert_eq!(h.alarm(), h.t.exchange);
+        assert_eq!(h.chose(), None, "it waits for 2's choice");
+        h
+    }
+
+    /// Step 4: it chooses as soon as its higher-priority neighbour's choice
+    /// arrives, avoiding it, and acknowledges that choice.
+    #[test]
+    fn it_chooses_once_the_higher_priority_choice_arrives() {
+        let mut h = behind_two();
+        let t = h.t;
+        let (east, far_east) = (h.v(1, 0), h.v(2, 0));
+        assert_eq!(h.out.alarm, Some(t.exchange + t.wait / 2), "its first `Wait`, before its deadline");
+        let at = 200 * MS;
+        let c = h.choice(2, east, far_east, &[]);
+        assert!(h.deliver(at, 2, c), "a choice wakes it");
+        let acks = h.sent("ack");
+        assert!(matches!(acks[..], [Frame::Ack { ref acked, .. }] if acked == &[2]), "{acks:?}");
+        let mine = h.chose().expect("chosen on 2's choice");
+        assert_ne!(mine, far_east);
+        assert_eq!(h.go(), Some((mine, at + t.choice)), "2's choice is compatible: it moves");
+        assert!(h.notes.is_empty(), "{:?}", h.notes);
+    }
+
+    /// Step 4's timeout: the choice never comes, so `t_wait` past its
+    /// window it suspects 2 for the slot and chooses as if 2 stood still;
+    /// 2 then never answers, and it stays ("stay when unsure").
+    #[test]
+    fn a_silent_higher_priority_neighbour_is_given_up_after_t_wait() {
+        let mut h = behind_two();
+        let t = h.t;
+        assert_eq!(h.alarm(), t.exchange + t.wait / 2);
+        assert_eq!(h.sent("wait").len(), 1, "it tells those behind it that it still waits");
+        assert_eq!(h.chose(), None);
+        assert_eq!(h.alarm(), t.exchange + t.wait, "its deadline");
+        assert_eq!(h.notes, vec![Note::TimedOut { robot: 2 }]);
+        let mine = h.chose().expect("chosen without 2");
+        assert_ne!(mine, h.v(1, 0), "2 is taken to stand still");
+        assert_eq!(h.motor, None, "2 has not acknowledged");
+        let deadline = t.exchange + t.wait + t.choice + t.wait;
+        assert_eq!(h.alarm(), deadline, "it waits `t_wait` past its choice for 2's answer");
+        assert_eq!(h.go(), Some((h.v(0, 0), deadline)), "no answer: it stays");
+        assert_eq!(h.notes, vec![Note::TimedOut { robot: 2 }, Note::Unsure]);
+    }
+
+    /// `Wait` frames keep it waiting: after each, for as long again as the
+    /// slot had lasted, `BEACON_GROWTH` times (at least `t_wait`).
+    #[test]
+    fn wait_frames_keep_it_waiting_longer_each_time() {
+        let mut h = behind_two();
+        let t = h.t;
+        let patience = |said: Time| said + t.wait.max(BEACON_GROWTH * said);
+        let said = t.exchange + t.wait / 2 + 10 * MS;
+        let w = h.wait(2);
+        assert!(!h.deliver(said, 2, w), "a `Wait` waits for its next wake-up");
+        assert_eq!(h.sent("wait").len(), 1, "its own first `Wait` went out before");
+        assert_eq!(h.alarm(), t.exchange + t.wait, "its first deadline");
+        assert!(h.notes.is_empty() && h.chose().is_none(), "2 said it waits: it waits on");
+        let mut at = h.alarm();
+        while at < patience(said) {
+            assert_eq!(h.chose(), None, "still waiting at {at}");
+            at = h.alarm();
+        }
+        assert_eq!(at, patience(said));
+        assert_eq!(h.notes, vec![Note::TimedOut { robot: 2 }], "given up {at} µs in");
+        assert!(h.chose().is_some());
+
+        // A second `Wait` before that patience ends extends it again.
+        let mut h = behind_two();
+        for said in [said, patience(said) - MS] {
+            let w = h.wait(2);
+            h.deliver(said, 2, w);
+        }
+        let last = patience(said) - MS;
+        while h.chose().is_none() {
+            assert!(h.now < patience(last), "given up too early, at {}", h.now);
+            h.alarm();
+        }
+        assert_eq!(h.now, patience(last), "given up when its patience ran out");
+        assert_eq!(h.notes, vec![Note::TimedOut { robot: 2 }]);
     }
 }
