@@ -341,4 +341,101 @@ mod rules {
         assert_eq!(h.now, patience(last), "given up when its patience ran out");
         assert_eq!(h.notes, vec![Note::TimedOut { robot: 2 }]);
     }
+
+    /// Slot 0 with neighbour 3 west of it (behind in step 4's order),
+    /// whose map arrives 30 ms in: the robot chooses at its window's end
+    /// and waits for 3's answer. Returns its choice.
+    fn ahead_of_three() -> (Script, VertexId) {
+        let mut h = Script::new(0);
+        let west = h.v(-1, 0);
+        h.slot(0, 0, &[west]);
+        let m = h.map(3, west, 0);
+        h.deliver(30 * MS, 3, m);
+        assert_eq!(h.alarm(), h.t.exchange);
+        let c = h.chose().expect("nobody ahead: it chooses");
+        assert!(c != h.v(0, 0) && c != west, "{c}");
+        assert_eq!(h.motor, None, "it waits for 3's answer");
+        (h, c)
+    }
+
+    /// Step 6: it moves once every neighbour acknowledged its choice, or
+    /// announced a choice that avoided it.
+    #[test]
+    fn it_moves_on_an_ack_or_on_a_choice_that_avoided_it() {
+        let t = Timing::from_params(&Params::default());
+        let (mut h, c) = ahead_of_three();
+        let at = t.exchange + t.choice + 5 * MS;
+        let a = h.ack(3, &[0], &[]);
+        assert!(h.deliver(at, 3, a), "an ack to it wakes it");
+        assert_eq!(h.go(), Some((c, at)));
+        assert!(matches!(h.sent("commit")[..], [Frame::Commit { moving: true, .. }]), "it tells followers it leaves");
+
+        // An ack to someone else is not one to it.
+        let (mut h, _) = ahead_of_three();
+        let a = h.ack(3, &[5], &[]);
+        h.deliver(at, 3, a);
+        assert_eq!(h.motor, None, "{:?}", h.sent);
+
+        // 3's own choice, avoiding this robot's (3 lists it accounted).
+        let (mut h, c) = ahead_of_three();
+        let (west, far_west) = (h.v(-1, 0), h.v(-2, 0));
+        let ch = h.choice(3, west, far_west, &[0]);
+        assert!(h.deliver(at, 3, ch));
+        assert_eq!(h.go(), Some((c, at)), "3 avoided it");
+        let acks = h.sent("ack");
+        assert!(
+            matches!(acks[..], [Frame::Ack { ref acked, .. }] if acked == &[3]),
+            "3's move is compatible: {acks:?}"
+        );
+    }
+
+    /// Step 6's "stay when unsure": no answer within `t_wait` of its
+    /// choice, or a refusal, and it stays.
+    #[test]
+    fn without_every_answer_it_stays() {
+        let t = Timing::from_params(&Params::default());
+        let (mut h, _) = ahead_of_three();
+        let deadline = t.exchange + t.choice + t.wait;
+        assert_eq!(h.alarm(), deadline);
+        assert_eq!(h.go(), Some((h.v(0, 0), deadline)), "no answer: it stays");
+        assert_eq!(h.notes, vec![Note::Unsure]);
+        assert!(h.sent("commit").iter().all(|f| matches!(f, Frame::Commit { moving: false, .. })));
+
+        // 3 refuses (it committed to a conflicting move) and leaves: both
+        // cannot go, and it stays.
+        let (mut h, _) = ahead_of_three();
+        let at = t.exchange + t.choice + 5 * MS;
+        let (no, leaves) = (h.ack(3, &[], &[0]), h.commit(3, true));
+        h.deliver(at, 3, no);
+        h.deliver(at + MS, 3, leaves);
+        assert_eq!(h.go(), Some((h.v(0, 0), at + MS)), "refused: it stays");
+        assert_eq!(h.notes, vec![Note::Unsure]);
+
+        // A robot ahead of it refuses (it gave this one up and chose first):
+        // it stays at once.
+        let mut h = behind_two();
+        let (east, far_east) = (h.v(1, 0), h.v(2, 0));
+        h.until(t.exchange + t.wait + MS);
+        let mine = h.chose().expect("2 given up");
+        let (theirs, no) = (h.choice(2, east, far_east, &[]), h.ack(2, &[], &[0]));
+        let late = t.exchange + t.wait + t.choice + 5 * MS;
+        h.hear(late, &[(2, late, theirs), (2, late, no)]);
+        assert_eq!(h.go(), Some((h.v(0, 0), late)), "refused by {mine}'s leader: it stays");
+        assert!(h.notes.ends_with(&[Note::Unsure]), "{:?}", h.notes);
+    }
+
+    /// A refusal from a robot behind it that should have waited for its
+    /// choice (it gave this one up): that robot stays, and this one moves
+    /// once it knows so, its move safe beside the other standing still.
+    #[test]
+    fn a_refusal_from_behind_yields_to_its_staying() {
+        let t = Timing::from_params(&Params::default());
+        let (mut h, c) = ahead_of_three();
+        let at = t.exchange + t.choice + 5 * MS;
+        let (no, stays) = (h.ack(3, &[], &[0]), h.commit(3, false));
+        h.deliver(at, 3, no);
+        assert_eq!(h.motor, None, "refused: it waits for 3's commit");
+        h.deliver(at + MS, 3, stays);
+        assert_eq!(h.go(), Some((c, at + MS)), "3 stays: it moves");
+    }
 }
