@@ -174,6 +174,10 @@ impl Script {
         self.sent.iter().filter(|f| kind_of(f) == kind).collect()
     }
 
+    pub fn halted(&self) -> bool {
+        self.peer.halted()
+    }
+
     /// The vertex its `Choice` of this slot announced.
     pub fn chose(&self) -> Option<VertexId> {
         self.sent.iter().find_map(|f| match f {
@@ -437,5 +441,97 @@ mod rules {
         assert_eq!(h.motor, None, "refused: it waits for 3's commit");
         h.deliver(at + MS, 3, stays);
         assert_eq!(h.go(), Some((c, at + MS)), "3 stays: it moves");
+    }
+
+    /// Failure detection: a neighbour heard last slot and expected in range
+    /// again, whose map does not come for `suspect_rounds` slots, is
+    /// declared failed where it was last heard; heard again, it rejoins.
+    #[test]
+    fn a_neighbour_missing_for_suspect_rounds_slots_is_declared_and_rejoins_when_heard() {
+        let params = Params { suspect_rounds: 2, ..Params::default() };
+        let mut h = Script::with(0, Policy::Repulsive, Situation::Two, &params);
+        let t = h.t;
+        let (home, west) = (h.v(0, 0), h.v(-1, 0));
+        let slot = 10_000 * MS;
+        // Slot 0: 3 is heard (and answers).
+        h.slot(0, 0, &[west]);
+        let m = h.map(3, west, 0);
+        h.deliver(30 * MS, 3, m);
+        h.until(t.exchange + MS);
+        let a = h.ack(3, &[0], &[]);
+        h.deliver(t.exchange + t.choice, 3, a);
+        assert!(h.go().is_some());
+        let failed = |h: &Script| h.peer.robot().unwrap().map().is_failed(3);
+        // Slots 1 and 2 (the robot put back home by the script, 3 in
+        // range): no map from 3.
+        for round in 1..=2 {
+            h.at = home;
+            h.slot(round, round as Time * slot, &[west]);
+            h.until(round as Time * slot + t.exchange + MS);
+            let declared = h.notes.contains(&Note::Declared { robot: 3 });
+            assert_eq!(declared, round == 2, "slot {round}: {:?}", h.notes);
+            assert_eq!(failed(&h), round == 2);
+            h.until(round as Time * slot + t.decision_time());
+        }
+        // Slot 3: 3's map comes: it is alive.
+        h.at = home;
+        h.slot(3, 3 * slot, &[west]);
+        let m = h.map(3, west, 3 * slot);
+        h.deliver(3 * slot + 30 * MS, 3, m);
+        h.until(3 * slot + t.exchange + MS);
+        assert_eq!(h.notes, vec![Note::Rejoined { robot: 3 }]);
+        assert!(!failed(&h), "revived");
+    }
+
+    /// The stop (rule 3, step 8): a robot that hears a stop flood halts,
+    /// floods the stop once, and carries it in its maps from then on.
+    #[test]
+    fn a_heard_stop_halts_it_and_is_flooded_once() {
+        let mut h = behind_two();
+        let s = h.stop(3);
+        assert!(h.deliver(500 * MS, 3, s), "a flood wakes it");
+        assert!(h.halted());
+        assert_eq!(h.motor, Some((Motor::Halt, 500 * MS)));
+        assert_eq!(h.notes, vec![Note::Stopped { ends_search: true, relayed: true, exhausted: false }]);
+        let floods = h.sent("flood");
+        assert!(matches!(floods[..], [Frame::Flood { stop: true, .. }]), "flooded once: {floods:?}");
+        assert_eq!(h.out.alarm, None, "halted, it sets no alarm");
+        let s = h.stop(2);
+        h.deliver(600 * MS, 2, s);
+        assert_eq!(h.sent("flood").len(), 1, "not again");
+        h.slot(1, 10_000 * MS, &[]);
+        let maps = h.sent("map");
+        assert!(matches!(maps[..], [Frame::Map { halted: true, stop: true, .. }]), "{maps:?}");
+        assert_eq!(h.motor, None, "halted for good");
+    }
+
+    /// A robot that senses late, behind a neighbour that sensed on time:
+    /// more than half a `t_wait` into the slot it stays at once; within
+    /// half a `t_wait` it listens a window from its sensing and chooses.
+    #[test]
+    fn a_late_robot_stays_unless_within_half_a_t_wait() {
+        let t = Timing::from_params(&Params::default());
+        let late = |now: Time| {
+            let mut h = Script::new(0);
+            let west = h.v(-1, 0);
+            // 3 sensed at the slot's start; its map waits in the radio.
+            let m = h.map(3, west, 0);
+            h.tick_at(now, 0, 0, &[west], &[(3, 30 * MS, m)]);
+            h
+        };
+        let too_late = t.wait / 2 + MS;
+        let h = late(too_late);
+        assert_eq!(h.chose(), Some(h.v(0, 0)), "it announces it stays");
+        assert_eq!(h.go(), Some((h.v(0, 0), too_late + t.choice)), "and stays, at once");
+
+        let in_time = t.wait / 2 - MS;
+        let mut h = late(in_time);
+        assert_eq!(h.chose(), None);
+        assert_eq!(h.alarm(), in_time + t.exchange, "it listens a window from its sensing");
+        let c = h.chose().expect("then chooses");
+        assert_ne!(c, h.v(0, 0));
+        let a = h.ack(3, &[0], &[]);
+        h.deliver(in_time + t.exchange + t.choice, 3, a);
+        assert_eq!(h.go(), Some((c, in_time + t.exchange + t.choice)), "and moves on 3's ack");
     }
 }
