@@ -29,6 +29,8 @@ pub struct Script {
     /// Frames its receive filter ([`Output::listen`]) held back, for its
     /// next wake-up.
     held: Vec<(RobotId, Time, Frame)>,
+    /// Neighbouring vertices its sonar finds walled off.
+    pub walls: Vec<VertexId>,
 }
 
 impl Script {
@@ -57,6 +59,7 @@ impl Script {
             notes: vec![],
             sent: vec![],
             held: vec![],
+            walls: vec![],
         }
     }
 
@@ -80,7 +83,7 @@ impl Script {
         let bits = |keep: &dyn Fn(VertexId) -> bool| {
             adj.iter().enumerate().filter(|(_, &v)| v != NONE && keep(v)).fold(0u8, |b, (d, _)| b | 1 << d)
         };
-        let (open, occupied) = (bits(&|_| true), bits(&|v| occupied.contains(&v)));
+        let (open, occupied) = (bits(&|v| !self.walls.contains(&v)), bits(&|v| occupied.contains(&v)));
         let tick = Tick { round, start, at: self.at, open, occupied, targets: vec![] };
         (self.round, self.motor, self.notes, self.sent) = (round, None, vec![], vec![]);
         self.wake(now, Some(&tick), frames);
@@ -141,11 +144,17 @@ impl Script {
         self.sent.extend(self.out.send.iter().map(|t| t.payload.clone()));
     }
 
-    /// Neighbour `from`'s map of this slot, from `at`, as it sensed at `sent`.
+    /// Neighbour `from`'s map of this slot, from `at`, as it sensed at
+    /// `sent`: its own vertex visited, and what it sensed around it.
     pub fn map(&self, from: RobotId, at: VertexId, sent: Time) -> Frame {
+        // What it sensed there: every edge of the lattice open.
+        let open = self.grid.neighbors(at)[..self.grid.degree()]
+            .iter()
+            .enumerate()
+            .filter(|(_, &v)| v != NONE)
+            .fold(0u8, |b, (d, _)| b | 1 << d);
         let mut map = Map::new(self.grid.len());
-        map.set_visited(at, true);
-        map.set_known(at, true);
+        map.record_sensing(self.grid, at, open);
         Frame::Map { round: self.round, from, at, sent, halted: false, stop: false, map }
     }
 
@@ -533,5 +542,49 @@ mod rules {
         let a = h.ack(3, &[0], &[]);
         h.deliver(in_time + t.exchange + t.choice, 3, a);
         assert_eq!(h.go(), Some((c, in_time + t.exchange + t.choice)), "and moves on 3's ack");
+    }
+
+    /// Step 5: after it chose, it acknowledges a choice compatible with its
+    /// own and refuses one that is not.
+    #[test]
+    fn after_choosing_it_refuses_a_conflicting_choice() {
+        let t = Timing::from_params(&Params::default());
+        let (mut h, c) = ahead_of_three();
+        let (west, far_west) = (h.v(-1, 0), h.v(-2, 0));
+        let at = t.exchange + t.choice;
+        let clash = h.choice(3, west, c, &[]);
+        h.deliver(at, 3, clash);
+        let acks = h.sent("ack");
+        assert!(matches!(acks[..], [Frame::Ack { ref acked, ref refused, .. }] if acked.is_empty() && refused == &[3]));
+        let (mut h, _) = ahead_of_three();
+        let away = h.choice(3, west, far_west, &[]);
+        h.deliver(at, 3, away);
+        let acks = h.sent("ack");
+        assert!(matches!(acks[..], [Frame::Ack { ref acked, ref refused, .. }] if acked == &[3] && refused.is_empty()));
+    }
+
+    /// Step 6: following into a leader's vertex, it moves only once the
+    /// leader committed to leaving; a leader that stays keeps it home.
+    #[test]
+    fn it_follows_into_a_vertex_only_once_its_robot_commits_to_leaving() {
+        let t = Timing::from_params(&Params::default());
+        for leaves in [true, false] {
+            let mut h = Script::new(0);
+            let (east, far_east) = (h.v(1, 0), h.v(2, 0));
+            // Walls all round but to the east, where 2 stands.
+            h.walls = [h.v(0, 1), h.v(0, -1), h.v(-1, 0)].to_vec();
+            h.slot(0, 0, &[east]);
+            let m = h.map(2, east, 0);
+            h.deliver(30 * MS, 2, m);
+            let ch = h.choice(2, east, far_east, &[]);
+            h.deliver(t.exchange + 10 * MS, 2, ch);
+            assert_eq!(h.chose(), Some(east), "it follows 2");
+            assert_eq!(h.motor, None, "not before 2 commits");
+            let at = t.exchange + t.choice + 20 * MS;
+            let cm = h.commit(2, leaves);
+            assert!(h.deliver(at, 2, cm), "its leader's commit wakes it");
+            let go = if leaves { east } else { h.v(0, 0) };
+            assert_eq!(h.go(), Some((go, at)), "2 leaves: {leaves}");
+        }
     }
 }
