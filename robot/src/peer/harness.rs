@@ -587,4 +587,35 @@ mod rules {
             assert_eq!(h.go(), Some((go, at)), "2 leaves: {leaves}");
         }
     }
+
+    /// Under a fixed slot, `Wait` frames keep it waiting only until it must
+    /// choose for its choice to be acknowledged within the slot: two
+    /// reactions and two trips (the latency it measured, a hop a copy)
+    /// before the decisions end; and its command comes by then.
+    #[test]
+    fn under_a_fixed_slot_it_chooses_in_time_for_the_acks() {
+        let params = Params { slot: SlotRule::Fixed, ..Params::default() };
+        let mut h = Script::with(0, Policy::Repulsive, Situation::Two, &params);
+        let t = h.t;
+        let end = t.decision.expect("a fixed slot");
+        let east = h.v(1, 0);
+        h.slot(0, 0, &[east]);
+        let latency = 30 * MS;
+        let m = h.map(2, east, 0);
+        h.deliver(latency, 2, m);
+        // 2 keeps saying it waits: its patience would run past the slot.
+        let said = t.exchange + t.wait / 2 + 10 * MS;
+        let w = h.wait(2);
+        h.deliver(said, 2, w);
+        assert!(said + BEACON_GROWTH * said > end, "the script needs a patience past the slot");
+        let cap = end - 2 * t.choice - 2 * (latency + t.hop * t.copies as Time);
+        h.until(cap);
+        assert_eq!(h.chose(), None, "waiting until {cap}");
+        assert_eq!(h.alarm(), cap);
+        assert_eq!(h.notes, vec![Note::TimedOut { robot: 2 }]);
+        assert!(h.chose().is_some());
+        h.until(end + 1);
+        let (at, when) = h.go().expect("a command");
+        assert_eq!((at, when), (h.v(0, 0), end), "2 never answered: it stays, by the slot's end");
+    }
 }
