@@ -217,7 +217,6 @@ pub fn kind_of(f: &Frame) -> &'static str {
 
 /// Each rule of the protocol (the module docs of [`crate::peer`]), one
 /// robot at (0, 0) at a time, its neighbours scripted.
-#[cfg(test)]
 mod rules {
     use super::*;
 
