@@ -55,6 +55,8 @@ use crate::robot::{Robot, RobotConfig, Sensing, Stop};
 use crate::spot::{Spot, Spots};
 
 mod filter;
+#[cfg(test)]
+mod harness;
 
 /// The most a robot widens its exchange window, in exchange windows (with
 /// the defaults 1 s: a map later than that reads as a dead neighbour).
