@@ -180,7 +180,7 @@ impl Script {
 
     /// The frames of one kind it sent this slot.
     pub fn sent(&self, kind: &str) -> Vec<&Frame> {
-        self.sent.iter().filter(|f| kind_of(f) == kind).collect()
+        self.sent.iter().filter(|f| f.kind() == kind).collect()
     }
 
     pub fn halted(&self) -> bool {
@@ -201,17 +201,6 @@ impl Script {
             Some((Motor::Go(v), t)) => Some((v, t)),
             _ => None,
         }
-    }
-}
-
-pub fn kind_of(f: &Frame) -> &'static str {
-    match f {
-        Frame::Map { .. } => "map",
-        Frame::Choice { .. } => "choice",
-        Frame::Ack { .. } => "ack",
-        Frame::Commit { .. } => "commit",
-        Frame::Flood { .. } => "flood",
-        Frame::Wait { .. } => "wait",
     }
 }
 
